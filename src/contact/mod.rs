@@ -1,0 +1,12 @@
+//! Contact: where inside a step a particle meets a wall, and what the bounce rule does then.
+//!
+//! - [`locate`]: the time of impact on the particle's curved path inside the step, from the
+//!   chord test of [`crate::walls::Surface::sweep`];
+//! - [`response`]: the bounce rule of PHYSICS.md §5 (L06 §4) — Stokes number once per contact,
+//!   restitution, contact time, and the outcome: held, bounced or deposited.
+
+mod locate;
+mod response;
+
+pub use locate::locate_on_path;
+pub use response::{BounceRule, Impact, wall_impact};

@@ -1,0 +1,128 @@
+//! The physical effects a scene can name, one file each (PHYSICS.md §1 and §5).
+//!
+//! An effect does not run in the hot loop: it *builds* the scene's [`Physics`] once, by adding
+//! its term to each particle kind's inertia and force (per unit particle volume), by choosing the
+//! drag law, or by switching on the hold at contact. The integrators then evaluate one
+//! linearised force ([`crate::integrate::Linear`]) per particle, compiled for the drag law and
+//! flow the scene has, so an effect the scene does not name costs nothing.
+//!
+//! The registry is [`build_effect`]: a plain `match` on the name.
+
+mod added_mass;
+mod buoyancy;
+mod contact_time;
+mod drag;
+mod gravity;
+
+pub use added_mass::AddedMass;
+pub use buoyancy::Buoyancy;
+pub use contact_time::ContactTime;
+pub use drag::{Drag, DragLaw, DragLawKind, NoDrag, SchillerNaumann, Stokes};
+pub use gravity::Gravity;
+
+use crate::fluid::Fluid;
+use crate::particles::ParticleKind;
+use glam::DVec3;
+
+/// Names accepted in a scene's `[effects]` table, in the order the docs list them.
+pub const EFFECT_NAMES: &[&str] = &["gravity", "buoyancy", "drag", "added_mass", "contact_time"];
+
+/// One physical effect: adds its part to the scene's [`Physics`].
+pub trait Effect: std::fmt::Debug + Send + Sync {
+    /// The name the scene file uses.
+    fn name(&self) -> &'static str;
+    /// Adds this effect's term to `physics`, for a scene with these `kinds` in this `fluid`.
+    fn apply(&self, fluid: &Fluid, kinds: &[ParticleKind], physics: &mut Physics);
+}
+
+/// The error of [`build_effect`]: the message only; the scene loader adds file and key.
+pub type EffectError = String;
+
+/// The effect registry: builds the effect `name` from its own table of the scene file.
+pub fn build_effect(name: &str, table: toml::Value) -> Result<Box<dyn Effect>, EffectError> {
+    fn parse<T: serde::de::DeserializeOwned>(table: toml::Value) -> Result<T, EffectError> {
+        T::deserialize(table).map_err(|e| e.message().to_string())
+    }
+    Ok(match name {
+        "gravity" => Box::new(parse::<Gravity>(table)?),
+        "buoyancy" => Box::new(parse::<Buoyancy>(table)?),
+        "drag" => Box::new(parse::<Drag>(table)?),
+        "added_mass" => Box::new(parse::<AddedMass>(table)?.validated()?),
+        "contact_time" => Box::new(parse::<ContactTime>(table)?),
+        other => {
+            return Err(format!(
+                "unknown effect \"{other}\"; valid effects are: {}",
+                EFFECT_NAMES.join(", ")
+            ));
+        }
+    })
+}
+
+/// What one particle kind's inertia and steady forces are, per unit particle volume.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct KindTerms {
+    /// Inertia per unit volume (kg/m³): `ρp`, plus `C_M ρ` with added mass.
+    pub inertia_density: f64,
+    /// Force per unit volume that does not depend on the particle's motion (N/m³):
+    /// `ρp g` with gravity, `−ρ g` with buoyancy.
+    pub force_density: DVec3,
+}
+
+/// What the scene's effects make of its physics; built once, read in the hot loop.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Physics {
+    /// One entry per particle kind, indexed like the kinds.
+    pub kinds: Vec<KindTerms>,
+    /// The drag law, or `None` without the drag effect.
+    pub drag: Option<DragLawKind>,
+    /// Added-mass coefficient in the inertia (0 without the added-mass effect).
+    pub added_mass_coefficient: f64,
+    /// With the contact-time effect: particles are held at the wall for `t_c` (PHYSICS.md §5.3).
+    pub hold_at_contact: bool,
+    /// Names of the effects, in the order they were applied.
+    pub effect_names: Vec<&'static str>,
+}
+
+impl Physics {
+    /// Applies `effects` in order to a scene with these `kinds` in this `fluid`.
+    pub fn build(fluid: &Fluid, kinds: &[ParticleKind], effects: &[Box<dyn Effect>]) -> Self {
+        let mut physics = Physics {
+            kinds: kinds
+                .iter()
+                .map(|k| KindTerms {
+                    inertia_density: k.density,
+                    force_density: DVec3::ZERO,
+                })
+                .collect(),
+            drag: None,
+            added_mass_coefficient: 0.0,
+            hold_at_contact: false,
+            effect_names: Vec::new(),
+        };
+        for effect in effects {
+            effect.apply(fluid, kinds, &mut physics);
+            physics.effect_names.push(effect.name());
+        }
+        physics
+    }
+
+    /// True when the scene names the effect `name`.
+    pub fn has(&self, name: &str) -> bool {
+        self.effect_names.contains(&name)
+    }
+
+    /// The constant part of kind `k`'s acceleration (m/s²): force density over inertia density.
+    pub fn body_acceleration(&self, k: usize) -> DVec3 {
+        self.kinds[k].force_density / self.kinds[k].inertia_density
+    }
+
+    /// Stokes relaxation rate of kind `k` times d² (m²/s): `18 μ / (ρp + C_M ρ)`, so that a
+    /// particle of diameter `d` has `1/τ = rate · f(Re) / d²` (L06 eq. 6). 0 without drag.
+    pub fn drag_rate(&self, k: usize, fluid: &Fluid) -> f64 {
+        if self.drag.is_some() {
+            18.0 * fluid.viscosity / self.kinds[k].inertia_density
+        } else {
+            0.0
+        }
+    }
+}

@@ -1,0 +1,26 @@
+//! Heun's second-order Runge–Kutta method, L06's integrator.
+
+use super::{ForceField, Scheme};
+use glam::DVec3;
+
+/// Heun's method (the explicit trapezoidal rule), the two-stage Runge–Kutta scheme with
+/// tableau `c = (0, 1)`, `b = (1/2, 1/2)`:
+///
+/// `k1 = f(y)`, `k2 = f(y + h k1)`, `y' = y + h (k1 + k2)/2`, for `y = (x, v)`.
+///
+/// L06 says only "second-order Runge–Kutta"; Heun's is the textbook RK2 and, like every
+/// second-order scheme, exact for motion under a constant force (a ball in vacuum).
+#[derive(Debug, Clone, Copy, Default)]
+pub struct Rk2;
+
+impl Scheme for Rk2 {
+    const ORDER: u32 = 2;
+
+    #[inline]
+    fn advance<F: ForceField>(self, f: &F, x: DVec3, v: DVec3, h: f64) -> (DVec3, DVec3) {
+        let a1 = f.eval(x, v).total(v);
+        let (x2, v2) = (x + h * v, v + h * a1);
+        let a2 = f.eval(x2, v2).total(v2);
+        (x + 0.5 * h * (v + v2), v + 0.5 * h * (a1 + a2))
+    }
+}

@@ -1,0 +1,50 @@
+//! Output sinks: what a run writes, each a [`Sink`] with do-nothing defaults.
+//!
+//! - [`TrajectoryCsv`]: `trajectories.csv`, one row per particle per output frame;
+//! - [`EventCsv`]: `events.csv`, one row per contact;
+//! - [`Statistics`]: counts and means for the end-of-run summary.
+
+mod csv_files;
+mod statistics;
+
+pub use csv_files::{EventCsv, TrajectoryCsv};
+pub use statistics::Statistics;
+
+use crate::pipeline::{ContactEvent, Simulation};
+use std::path::PathBuf;
+
+/// A failure to write an output file.
+#[derive(Debug, thiserror::Error)]
+#[error("{path}: {message}")]
+pub struct OutputError {
+    /// The file being written.
+    pub path: PathBuf,
+    /// What went wrong.
+    pub message: String,
+}
+
+impl OutputError {
+    /// An error writing `path`.
+    pub fn new(path: impl Into<PathBuf>, e: impl std::fmt::Display) -> Self {
+        OutputError {
+            path: path.into(),
+            message: e.to_string(),
+        }
+    }
+}
+
+/// Something that receives a run's frames and events. Every method defaults to doing nothing.
+pub trait Sink {
+    /// A frame at the simulation's current time (called at t = 0 and every output interval).
+    fn frame(&mut self, _sim: &Simulation) -> Result<(), OutputError> {
+        Ok(())
+    }
+    /// Contact events since the last call, in time order per particle.
+    fn events(&mut self, _sim: &Simulation, _events: &[ContactEvent]) -> Result<(), OutputError> {
+        Ok(())
+    }
+    /// The run is over (finished or interrupted): flush and close.
+    fn finish(&mut self) -> Result<(), OutputError> {
+        Ok(())
+    }
+}

@@ -1,0 +1,320 @@
+//! The simulation and its step.
+//!
+//! [`Simulation::step`] runs these stages, in this order, each in its own file:
+//!
+//! 1. **release** ([`release`]): held particles whose contact time ends inside the step are
+//!    released at `ε V∞`; resting particles whose net force points away from their wall leave it;
+//! 2. **free flight** ([`free_flight`]): every free particle is integrated over its part of the
+//!    step with the scene's effects only, resting particles slide along their wall (parallel);
+//! 3. **broad phase** ([`broad_phase`]): the particles whose swept path may touch a wall;
+//! 4. **narrow phase** and 5. **response** ([`wall_contacts`]), alternating per particle: the
+//!    first contact on the path is located inside the step, the bounce rule applied, and the
+//!    rest of the step integrated from the contact point, until the step is used up (parallel
+//!    over particles, results written back in particle order);
+//! 6. **commit** ([`commit`]): the new states replace the old; a particle whose state is no
+//!    longer finite is taken out and reported;
+//! 7. **emit**: the step's contact events wait in [`Simulation::events`] for the output sinks
+//!    (the [`run`] driver drains them and writes frames at the output times).
+
+mod broad_phase;
+mod commit;
+mod events;
+mod free_flight;
+mod motion;
+mod release;
+pub mod run;
+mod wall_contacts;
+
+pub use events::{ContactEvent, LostParticle, Other, Outcome};
+pub use motion::{Motion, WithMotion, dispatch};
+
+use crate::contact::BounceRule;
+use crate::effects::Physics;
+use crate::fluid::Fluid;
+use crate::integrate::IntegratorKind;
+use crate::particles::{ParticleKind, Particles, State};
+use crate::walls::Wall;
+use glam::DVec3;
+use std::time::{Duration, Instant};
+
+/// Wall time spent in each stage of [`Simulation::step`], summed over steps.
+#[derive(Debug, Clone, Copy, Default)]
+pub struct StageTimes {
+    /// Stage 1.
+    pub release: Duration,
+    /// Stage 2.
+    pub free_flight: Duration,
+    /// Stage 3.
+    pub broad_phase: Duration,
+    /// Stages 4 and 5.
+    pub contacts: Duration,
+    /// Stage 6.
+    pub commit: Duration,
+}
+
+/// Per-step scratch columns, reused between steps.
+#[derive(Debug, Clone, Default)]
+struct Scratch {
+    next_pos: Vec<DVec3>,
+    next_vel: Vec<DVec3>,
+    next_state: Vec<State>,
+    candidates: Vec<u32>,
+}
+
+/// Everything a simulation is: the world state and the fixed parameters of the scene.
+#[derive(Debug)]
+pub struct Simulation {
+    /// Simulated time (s).
+    pub time: f64,
+    /// Time step `Δt` (s).
+    pub dt: f64,
+    /// Steps taken.
+    pub steps: u64,
+    /// The particles.
+    pub particles: Particles,
+    /// Particle kinds, indexed by [`Particles::kind`].
+    pub kinds: Vec<ParticleKind>,
+    /// Static walls.
+    pub walls: Vec<Wall>,
+    /// Carrier fluid.
+    pub fluid: Fluid,
+    /// What the scene's effects make of the physics.
+    pub physics: Physics,
+    /// Bounce parameters.
+    pub rule: BounceRule,
+    /// Time integrator.
+    pub integrator: IntegratorKind,
+    /// Contact events of the steps since the sinks last drained them.
+    pub events: Vec<ContactEvent>,
+    /// Particles taken out because their state became non-finite.
+    pub lost: Vec<LostParticle>,
+    /// Time spent per stage.
+    pub stage_times: StageTimes,
+    scratch: Scratch,
+}
+
+/// The read-only context of the per-particle stages.
+pub(crate) struct Ctx<'a, M> {
+    pub motion: &'a M,
+    pub walls: &'a [Wall],
+    pub kinds: &'a [ParticleKind],
+    pub fluid: &'a Fluid,
+    pub rule: &'a BounceRule,
+    kind_accel: Vec<DVec3>,
+    kind_drag_rate: Vec<f64>,
+    re_rate: f64,
+}
+
+impl<'a, M: Motion> Ctx<'a, M> {
+    /// The force field of a particle of kind `k` and diameter `d`.
+    #[inline(always)]
+    pub fn field(&self, k: usize, d: f64) -> M::Field {
+        self.motion.field(
+            self.kind_accel[k],
+            self.kind_drag_rate[k] / (d * d),
+            self.re_rate * d,
+        )
+    }
+}
+
+/// A stretch of one particle's motion inside a step: from time `t`, state `(x, v)`.
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct Segment {
+    pub t: f64,
+    pub x: DVec3,
+    pub v: DVec3,
+    pub state: State,
+    pub wall: u32,
+}
+
+/// Where a segment ends.
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct Flight {
+    pub x: DVec3,
+    pub v: DVec3,
+    pub state: State,
+}
+
+/// Relative gap (in particle radii) beyond which a sliding particle has lost its wall (it went
+/// over a convex edge); below it the gap is round-off and the particle is put back on the wall.
+const FALL_AWAY: f64 = 1e-9;
+
+/// Integrates one segment over `h` (s): free flight, sliding on the wall, or nothing (held).
+#[inline]
+pub(crate) fn fly<M: Motion>(
+    ctx: &Ctx<M>,
+    field: &M::Field,
+    r: f64,
+    seg: &Segment,
+    h: f64,
+) -> Flight {
+    match seg.state {
+        State::Held => Flight {
+            x: seg.x,
+            v: seg.v,
+            state: State::Held,
+        },
+        State::Free => {
+            let (x, v) = ctx.motion.advance(field, seg.x, seg.v, h);
+            Flight {
+                x,
+                v,
+                state: State::Free,
+            }
+        }
+        State::Resting => {
+            use crate::walls::Surface;
+            let wall = &ctx.walls[seg.wall as usize].shape;
+            let n = wall.gap(seg.x, r).normal;
+            let slide = crate::integrate::Tangential { inner: field, n };
+            let (x, v) = ctx
+                .motion
+                .advance(&slide, seg.x, seg.v - seg.v.dot(n) * n, h);
+            let g = wall.gap(x, r);
+            if g.gap > FALL_AWAY * r {
+                Flight {
+                    x,
+                    v,
+                    state: State::Free,
+                }
+            } else {
+                let n1 = g.normal;
+                Flight {
+                    x: x - g.gap * n1,
+                    v: v - v.dot(n1) * n1,
+                    state: State::Resting,
+                }
+            }
+        }
+    }
+}
+
+impl Simulation {
+    /// A simulation at time 0 with these parts. `dt` is the time step (s).
+    #[allow(clippy::too_many_arguments)]
+    pub fn new(
+        particles: Particles,
+        kinds: Vec<ParticleKind>,
+        walls: Vec<Wall>,
+        fluid: Fluid,
+        physics: Physics,
+        rule: BounceRule,
+        integrator: IntegratorKind,
+        dt: f64,
+    ) -> Self {
+        Simulation {
+            time: 0.0,
+            dt,
+            steps: 0,
+            particles,
+            kinds,
+            walls,
+            fluid,
+            physics,
+            rule,
+            integrator,
+            events: Vec::new(),
+            lost: Vec::new(),
+            stage_times: StageTimes::default(),
+            scratch: Scratch::default(),
+        }
+    }
+
+    /// Steps with `Δt` until `t_end`, shortening the last step to land on it exactly, so that
+    /// outputs fall on their nominal times whatever `Δt`.
+    pub fn advance_to(&mut self, t_end: f64) {
+        while self.time < t_end {
+            let remaining = t_end - self.time;
+            // A sliver left by round-off is merged into the previous step instead.
+            if remaining <= 1e-9 * self.dt {
+                self.time = t_end;
+                break;
+            }
+            let h = if remaining < 1.000_000_001 * self.dt {
+                remaining
+            } else {
+                self.dt
+            };
+            self.step(h);
+            if h == remaining {
+                self.time = t_end;
+            }
+        }
+    }
+
+    /// Advances every particle by `h` (s): the stages listed in the module documentation.
+    pub fn step(&mut self, h: f64) {
+        let (integrator, drag, flow) = (self.integrator, self.physics.drag, self.fluid.flow);
+        dispatch(integrator, drag, flow, StepWith { sim: self, h });
+    }
+
+    fn ctx<'a, M: Motion>(&'a self, motion: &'a M) -> Ctx<'a, M> {
+        let n = self.kinds.len();
+        let mu = self.fluid.viscosity;
+        Ctx {
+            motion,
+            walls: &self.walls,
+            kinds: &self.kinds,
+            fluid: &self.fluid,
+            rule: &self.rule,
+            kind_accel: (0..n).map(|k| self.physics.body_acceleration(k)).collect(),
+            kind_drag_rate: (0..n)
+                .map(|k| self.physics.drag_rate(k, &self.fluid))
+                .collect(),
+            re_rate: if mu > 0.0 {
+                self.fluid.density / mu
+            } else {
+                0.0
+            },
+        }
+    }
+}
+
+struct StepWith<'a> {
+    sim: &'a mut Simulation,
+    h: f64,
+}
+
+impl WithMotion for StepWith<'_> {
+    type Out = ();
+
+    fn run<M: Motion>(self, motion: &M) {
+        let StepWith { sim, h } = self;
+        let (t0, t1) = (sim.time, sim.time + h);
+        let mut scratch = std::mem::take(&mut sim.scratch);
+        let mut particles = std::mem::take(&mut sim.particles);
+        let mut times = sim.stage_times;
+        let mut events = std::mem::take(&mut sim.events);
+        {
+            let ctx = sim.ctx(motion);
+            let clock = Instant::now();
+            // 1.
+            release::run(&ctx, &mut particles, t1);
+            let c1 = Instant::now();
+            // 2.
+            free_flight::run(&ctx, &particles, t0, t1, &mut scratch);
+            let c2 = Instant::now();
+            // 3.
+            broad_phase::run(&ctx, &particles, &mut scratch);
+            let c3 = Instant::now();
+            // 4. + 5.
+            wall_contacts::run(&ctx, &mut particles, t0, t1, &mut scratch, &mut events);
+            let c4 = Instant::now();
+            // 6.
+            commit::run(&mut particles, &mut scratch, t1, &mut sim.lost);
+            let c5 = Instant::now();
+            times.release += c1 - clock;
+            times.free_flight += c2 - c1;
+            times.broad_phase += c3 - c2;
+            times.contacts += c4 - c3;
+            times.commit += c5 - c4;
+        }
+        // 7. Events stay in `sim.events` for the sinks.
+        sim.particles = particles;
+        sim.scratch = scratch;
+        sim.events = events;
+        sim.stage_times = times;
+        sim.time = t1;
+        sim.steps += 1;
+    }
+}

@@ -1,0 +1,95 @@
+//! The free-flight machinery compiled for one (integrator, drag law, flow), and the one
+//! `match` that picks it per step — so the per-particle loops carry no branch on effects.
+
+use crate::effects::{DragLaw, DragLawKind, NoDrag, SchillerNaumann, Stokes};
+use crate::fluid::{self, Flow, FlowField};
+use crate::integrate::{
+    Euler, Exponential, ForceField, IntegratorKind, ParticleForce, Rk2, Rk4, Scheme,
+};
+use glam::DVec3;
+use std::marker::PhantomData;
+
+/// Free flight of one particle: its force field and the integrator.
+pub trait Motion: Sync {
+    /// The force field of one particle.
+    type Field: ForceField + Sync;
+    /// The field of a particle with constant acceleration `accel` (m/s²), Stokes drag rate
+    /// `stokes_rate` (1/s) and Reynolds number per unit slip speed `re_per_speed` (s/m).
+    fn field(&self, accel: DVec3, stokes_rate: f64, re_per_speed: f64) -> Self::Field;
+    /// One integrator step of `h` (s) under `f`.
+    fn advance<G: ForceField>(&self, f: &G, x: DVec3, v: DVec3, h: f64) -> (DVec3, DVec3);
+}
+
+/// [`Motion`] for integrator `S`, drag law `D` and flow `F`.
+#[derive(Debug, Clone, Copy)]
+pub struct Mover<S, D, F> {
+    scheme: S,
+    flow: F,
+    law: PhantomData<D>,
+}
+
+impl<S: Scheme, D: DragLaw, F: FlowField> Motion for Mover<S, D, F> {
+    type Field = ParticleForce<D, F>;
+
+    #[inline(always)]
+    fn field(&self, accel: DVec3, stokes_rate: f64, re_per_speed: f64) -> Self::Field {
+        ParticleForce {
+            accel,
+            stokes_rate,
+            re_per_speed,
+            flow: self.flow,
+            law: PhantomData,
+        }
+    }
+
+    #[inline(always)]
+    fn advance<G: ForceField>(&self, f: &G, x: DVec3, v: DVec3, h: f64) -> (DVec3, DVec3) {
+        self.scheme.advance(f, x, v, h)
+    }
+}
+
+/// Work to run with a concrete [`Motion`].
+pub trait WithMotion {
+    /// What the work returns.
+    type Out;
+    /// Runs the work.
+    fn run<M: Motion>(self, motion: &M) -> Self::Out;
+}
+
+/// Runs `work` with the [`Motion`] of this integrator, drag law and flow.
+pub fn dispatch<W: WithMotion>(
+    integrator: IntegratorKind,
+    drag: Option<DragLawKind>,
+    flow: Flow,
+    work: W,
+) -> W::Out {
+    match integrator {
+        IntegratorKind::Euler => by_drag(Euler, drag, flow, work),
+        IntegratorKind::Rk2 => by_drag(Rk2, drag, flow, work),
+        IntegratorKind::Rk4 => by_drag(Rk4, drag, flow, work),
+        IntegratorKind::Exponential => by_drag(Exponential, drag, flow, work),
+    }
+}
+
+fn by_drag<S: Scheme, W: WithMotion>(s: S, drag: Option<DragLawKind>, flow: Flow, w: W) -> W::Out {
+    match drag {
+        None => by_flow::<S, NoDrag, W>(s, flow, w),
+        Some(DragLawKind::Stokes) => by_flow::<S, Stokes, W>(s, flow, w),
+        Some(DragLawKind::SchillerNaumann) => by_flow::<S, SchillerNaumann, W>(s, flow, w),
+    }
+}
+
+fn by_flow<S: Scheme, D: DragLaw, W: WithMotion>(scheme: S, flow: Flow, w: W) -> W::Out {
+    match flow {
+        Flow::Quiescent => w.run(&Mover::<S, D, _> {
+            scheme,
+            flow: fluid::Quiescent,
+            law: PhantomData,
+        }),
+        Flow::Uniform(u) => w.run(&Mover::<S, D, _> {
+            scheme,
+            flow: fluid::Uniform(u),
+            law: PhantomData,
+        }),
+    }
+}

@@ -1,0 +1,188 @@
+//! Initial particles: an explicit list, lattices and seeded random fills.
+
+use super::error::{Invalid, check};
+use super::schema::SceneFile;
+use crate::particles::{ParticleKind, Particles};
+use glam::{DVec3, IVec3};
+use rand::{Rng, SeedableRng};
+use rand_chacha::ChaCha8Rng;
+use std::collections::HashMap;
+
+/// Most particles a scene may create, so that a typo in a spacing cannot exhaust memory.
+const MAX_PARTICLES: usize = 50_000_000;
+
+/// Where each group of initial particles came from: `(first index, scene key)`.
+pub(super) type Origins = Vec<(usize, String)>;
+
+/// Adds `particles`, then every `lattice`, then every `random_fill`, with ids 0, 1, 2, …
+pub(super) fn add_particles(
+    file: &SceneFile,
+    kinds: &[ParticleKind],
+    p: &mut Particles,
+) -> Result<Origins, Invalid> {
+    let mut origins = Origins::new();
+    let kind_index = |key: String, name: &str| -> Result<u16, Invalid> {
+        kinds
+            .iter()
+            .position(|k| k.name == name)
+            .map(|i| i as u16)
+            .ok_or_else(|| {
+                let names: Vec<&str> = kinds.iter().map(|k| k.name.as_str()).collect();
+                Invalid::new(
+                    key,
+                    format!("unknown kind \"{name}\"; kinds are: {}", names.join(", ")),
+                )
+            })
+    };
+    let push = |p: &mut Particles, kind: u16, d: f64, x: DVec3, v: DVec3| {
+        let id = p.len() as u32;
+        p.push(id, kind, d, x, v);
+    };
+    for (i, s) in file.particles.iter().enumerate() {
+        let k = |f: &str| format!("particles[{i}].{f}");
+        let kind = kind_index(k("kind"), &s.kind)?;
+        let d = check::positive(&k("diameter"), s.diameter)?;
+        let x = check::vector(&k("position"), s.position)?;
+        let v = check::vector(&k("velocity"), s.velocity)?;
+        origins.push((p.len(), k("position")));
+        push(p, kind, d, x, v);
+    }
+    for (i, s) in file.lattice.iter().enumerate() {
+        let k = |f: &str| format!("lattice[{i}].{f}");
+        let kind = kind_index(k("kind"), &s.kind)?;
+        let d = check::positive(&k("diameter"), s.diameter)?;
+        let (lo, hi) = region(&k("min"), &k("max"), s.min, s.max)?;
+        let a = check::positive(&k("spacing"), s.spacing)?;
+        if a < d {
+            return Err(Invalid::new(
+                k("spacing"),
+                format!("must be >= diameter {d} so particles do not overlap, got {a}"),
+            ));
+        }
+        let v = check::vector(&k("velocity"), s.velocity)?;
+        let n = ((hi - lo) / a - 0.5).floor() + 1.0;
+        let n = n.max(DVec3::ZERO);
+        if n.x * n.y * n.z + p.len() as f64 > MAX_PARTICLES as f64 {
+            return Err(Invalid::new(
+                k("spacing"),
+                format!(
+                    "gives {:.3e} particles, more than {MAX_PARTICLES}",
+                    n.x * n.y * n.z
+                ),
+            ));
+        }
+        origins.push((p.len(), format!("lattice[{i}]")));
+        for iz in 0..n.z as usize {
+            for iy in 0..n.y as usize {
+                for ix in 0..n.x as usize {
+                    let x = lo + a * (DVec3::new(ix as f64, iy as f64, iz as f64) + 0.5);
+                    push(p, kind, d, x, v);
+                }
+            }
+        }
+    }
+    for (i, s) in file.random_fill.iter().enumerate() {
+        let k = |f: &str| format!("random_fill[{i}].{f}");
+        let kind = kind_index(k("kind"), &s.kind)?;
+        let d = check::positive(&k("diameter"), s.diameter)?;
+        let (lo, hi) = region(&k("min"), &k("max"), s.min, s.max)?;
+        let v = check::vector(&k("velocity"), s.velocity)?;
+        if s.count as usize + p.len() > MAX_PARTICLES {
+            return Err(Invalid::new(
+                k("count"),
+                format!(
+                    "must leave the scene at most {MAX_PARTICLES} particles, got {}",
+                    s.count
+                ),
+            ));
+        }
+        let r = 0.5 * d;
+        let (lo, hi) = (lo + r, hi - r);
+        if !lo.cmplt(hi).all() {
+            return Err(Invalid::new(
+                k("max"),
+                format!("region is thinner than the diameter {d} on some axis"),
+            ));
+        }
+        origins.push((p.len(), format!("random_fill[{i}]")));
+        place_random(p, kind, d, lo, hi, v, s.count as usize, s.seed)
+            .map_err(|placed| Invalid::new(k("count"), format!(
+                "could place only {placed} of {} non-overlapping particles in the region; enlarge it or lower the count",
+                s.count
+            )))?;
+    }
+    Ok(origins)
+}
+
+fn region(kmin: &str, kmax: &str, min: [f64; 3], max: [f64; 3]) -> Result<(DVec3, DVec3), Invalid> {
+    let (lo, hi) = (check::vector(kmin, min)?, check::vector(kmax, max)?);
+    if !lo.cmplt(hi).all() {
+        return Err(Invalid::new(
+            kmax,
+            format!("must exceed min on every axis, got min {min:?}, max {max:?}"),
+        ));
+    }
+    Ok((lo, hi))
+}
+
+/// Random non-overlapping centres in `[lo, hi]` (already shrunk by the radius), avoiding the
+/// particles placed before. Rejection sampling with a hash grid; `Err(placed)` when the region
+/// is too full.
+#[allow(clippy::too_many_arguments)]
+fn place_random(
+    p: &mut Particles,
+    kind: u16,
+    d: f64,
+    lo: DVec3,
+    hi: DVec3,
+    v: DVec3,
+    count: usize,
+    seed: u64,
+) -> Result<(), usize> {
+    let cell = p.diameter.iter().copied().fold(d, f64::max);
+    let key = |x: DVec3| (x / cell).floor().as_ivec3();
+    let mut grid: HashMap<IVec3, Vec<usize>> = HashMap::new();
+    for i in 0..p.len() {
+        grid.entry(key(p.pos[i])).or_default().push(i);
+    }
+    let mut rng = ChaCha8Rng::seed_from_u64(seed);
+    let mut placed = 0;
+    let mut attempts = 0usize;
+    while placed < count {
+        attempts += 1;
+        if attempts > 1000 * count.max(1) {
+            return Err(placed);
+        }
+        let x = DVec3::new(
+            rng.random_range(lo.x..=hi.x),
+            rng.random_range(lo.y..=hi.y),
+            rng.random_range(lo.z..=hi.z),
+        );
+        let c = key(x);
+        let clear = (-1..=1).all(|dz| {
+            (-1..=1).all(|dy| {
+                (-1..=1).all(|dx| {
+                    grid.get(&(c + IVec3::new(dx, dy, dz))).is_none_or(|list| {
+                        list.iter()
+                            .all(|&j| (p.pos[j] - x).length() >= 0.5 * (p.diameter[j] + d))
+                    })
+                })
+            })
+        });
+        if clear {
+            let id = p.len() as u32;
+            let i = p.push(id, kind, d, x, v);
+            grid.entry(c).or_default().push(i);
+            placed += 1;
+        }
+    }
+    Ok(())
+}
+
+/// The scene key that created particle `i` (`particles[2].position`, `lattice[0]`, …).
+pub(super) fn origin_key(origins: &Origins, i: usize) -> String {
+    let group = origins.partition_point(|(first, _)| *first <= i);
+    origins
+        .get(group.wrapping_sub(1))
+        .map_or_else(|| "particles".into(), |(_, key)| key.clone())
+}

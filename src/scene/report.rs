@@ -1,0 +1,99 @@
+//! What `wetbounce check` prints: the time scales and the bounce regime of each particle kind.
+
+use super::Scene;
+use crate::contact::wall_impact;
+use crate::correlations::{relaxation_time, terminal_velocity};
+use crate::effects::DragLawKind;
+use crate::pipeline::Outcome;
+use crate::walls::WallMaterial;
+use glam::DVec3;
+
+/// Time scales and bounce regime of one particle kind at one diameter, at terminal velocity.
+#[derive(Debug, Clone, PartialEq)]
+pub struct KindReport {
+    /// Kind name.
+    pub kind: String,
+    /// Diameter (m).
+    pub diameter: f64,
+    /// Terminal velocity (m/s); ∞ without drag.
+    pub terminal_velocity: f64,
+    /// True if it rises (lighter than the fluid).
+    pub rising: bool,
+    /// Reynolds number at terminal velocity.
+    pub reynolds: f64,
+    /// Stokes number of an impact at terminal velocity (L06 §2).
+    pub stokes: f64,
+    /// Restitution of that impact (0 if it does not rebound).
+    pub eps: f64,
+    /// Contact time of that impact (s), L06 eq. 4 or 5, against `wall` (0 if no rebound).
+    pub contact_time: f64,
+    /// Relaxation time at terminal velocity (s), L06 eq. 6.
+    pub relaxation_time: f64,
+    /// Whether an impact at terminal velocity rebounds (`St ≥ St_c`).
+    pub bounces: bool,
+    /// The wall whose material was used for the contact time (the first wall, or a rigid wall).
+    pub wall: String,
+}
+
+/// One report per (kind, diameter) of the scene's initial particles, in order of appearance.
+/// The drag law is the scene's, Schiller–Naumann if the scene has no drag effect.
+pub fn kind_reports(scene: &Scene) -> Vec<KindReport> {
+    let mut seen: Vec<(u16, u64)> = Vec::new();
+    for i in 0..scene.particles.len() {
+        let key = (
+            scene.particles.kind[i],
+            scene.particles.diameter[i].to_bits(),
+        );
+        if !seen.contains(&key) {
+            seen.push(key);
+        }
+    }
+    let fluid = &scene.fluid;
+    let law = scene.physics.drag.unwrap_or(DragLawKind::SchillerNaumann);
+    let (material, wall) = scene
+        .walls
+        .first()
+        .map_or((WallMaterial::default(), "rigid wall".to_string()), |w| {
+            (w.material, w.name.clone())
+        });
+    seen.into_iter()
+        .map(|(k, bits)| {
+            let kind = &scene.kinds[k as usize];
+            let d = f64::from_bits(bits);
+            let g = fluid.gravity.length();
+            let tv = terminal_velocity(kind.density, fluid.density, d, fluid.viscosity, g, |re| {
+                law.factor(re)
+            });
+            let impact = wall_impact(
+                kind,
+                d,
+                &material,
+                fluid,
+                &scene.rule,
+                DVec3::new(0.0, 0.0, -tv.speed),
+                DVec3::Z,
+            );
+            let c_m = scene.physics.added_mass_coefficient;
+            KindReport {
+                kind: kind.name.clone(),
+                diameter: d,
+                terminal_velocity: tv.speed,
+                rising: tv.rising,
+                reynolds: tv.reynolds,
+                stokes: impact.st,
+                eps: impact.eps,
+                contact_time: impact.contact_time,
+                relaxation_time: relaxation_time(
+                    kind.density,
+                    fluid.density,
+                    c_m,
+                    d,
+                    fluid.viscosity,
+                    law.factor(tv.reynolds),
+                ),
+                bounces: impact.outcome != Outcome::Deposited,
+                wall: wall.clone(),
+            }
+        })
+        .collect()
+}

@@ -1,0 +1,105 @@
+//! The inside of a cylinder: a column wall, in closed form.
+
+use super::{Crossing, Gap, Surface, ends_touch};
+use glam::DVec3;
+
+/// The lateral surface of a cylinder of `radius` around the axis through `base` along unit
+/// `axis`, between `base + lo·axis` and `base + hi·axis`; particles inside. Caps are separate
+/// walls (planes, boxes). The rim edges are not modelled: contacts are tested against the
+/// infinite cylinder and kept when the centre lies between `lo` and `hi`.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Cylinder {
+    /// A point on the axis (m).
+    pub base: DVec3,
+    /// Unit axis direction.
+    pub axis: DVec3,
+    /// Radius (m).
+    pub radius: f64,
+    /// Lower end along the axis from `base` (m), may be −∞.
+    pub lo: f64,
+    /// Upper end along the axis from `base` (m), may be +∞.
+    pub hi: f64,
+}
+
+impl Cylinder {
+    /// Component of `c − base` perpendicular to the axis, and the axial coordinate.
+    #[inline]
+    fn split(&self, c: DVec3) -> (DVec3, f64) {
+        let rel = c - self.base;
+        let along = rel.dot(self.axis);
+        (rel - along * self.axis, along)
+    }
+}
+
+impl Surface for Cylinder {
+    #[inline]
+    fn gap(&self, c: DVec3, r: f64) -> Gap {
+        let (perp, _) = self.split(c);
+        let rho = perp.length();
+        // On the axis every direction is the nearest; pick one perpendicular to the axis.
+        let outward = if rho > 0.0 {
+            perp / rho
+        } else {
+            self.axis.any_orthonormal_vector()
+        };
+        Gap {
+            gap: self.radius - rho - r,
+            normal: -outward,
+        }
+    }
+
+    fn sweep(&self, c0: DVec3, c1: DVec3, r: f64) -> Option<Crossing> {
+        let (p, _) = self.split(c0);
+        let (p1, _) = self.split(c1);
+        let q = p1 - p;
+        let reach = self.radius - r;
+        let (a, b, c) = (q.dot(q), p.dot(q), p.dot(p) - reach * reach);
+        let enter = if c >= 0.0 {
+            // Touching or overlapping at the start: a contact only if moving outwards.
+            if b <= 0.0 {
+                return None;
+            }
+            0.0
+        } else {
+            // Inside: the positive root of a λ² + 2 b λ + c = 0.
+            if a == 0.0 {
+                return None;
+            }
+            let disc = b * b - a * c;
+            let lambda = (-b + disc.max(0.0).sqrt()) / a;
+            if lambda > 1.0 {
+                return None;
+            }
+            lambda
+        };
+        let (_, along) = self.split(c0 + enter * (c1 - c0));
+        (along >= self.lo && along <= self.hi).then_some(Crossing { enter, exit: 1.0 })
+    }
+
+    #[inline]
+    fn may_touch(&self, c0: DVec3, c1: DVec3, r: f64) -> bool {
+        ends_touch(self, c0, c1, r)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn radial_move_touches_when_centre_reaches_radius_minus_r() {
+        let cyl = Cylinder {
+            base: DVec3::ZERO,
+            axis: DVec3::Z,
+            radius: 1.0,
+            lo: f64::NEG_INFINITY,
+            hi: f64::INFINITY,
+        };
+        let hit = cyl
+            .sweep(DVec3::ZERO, DVec3::new(2.0, 0.0, 5.0), 0.25)
+            .unwrap();
+        assert!((hit.enter - 0.375).abs() < 1e-14);
+        let g = cyl.gap(DVec3::new(0.75, 0.0, 1.0), 0.25);
+        assert!(g.gap.abs() < 1e-15 && (g.normal + DVec3::X).length() < 1e-15);
+    }
+}

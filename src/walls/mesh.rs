@@ -1,0 +1,226 @@
+//! Triangle-mesh walls from STL (ASCII or binary) and OBJ files, through parry's `TriMesh`.
+
+use super::{Crossing, Gap, Surface, boxes_overlap};
+use glam::DVec3;
+use parry3d_f64::math::Pose;
+use parry3d_f64::query::{PointQuery, ShapeCastOptions, cast_shapes};
+use parry3d_f64::shape::{Ball, FeatureId, TriMesh};
+use std::path::Path;
+
+/// A triangle mesh wall. Particles may touch either side.
+#[derive(Debug, Clone)]
+pub struct MeshWall {
+    /// The mesh, in scene coordinates (m).
+    pub mesh: TriMesh,
+}
+
+/// Why a mesh file could not be used.
+#[derive(Debug, thiserror::Error)]
+pub enum MeshError {
+    /// The file could not be opened or read.
+    #[error("cannot read mesh file '{path}': {source}")]
+    Read {
+        /// The path as given.
+        path: String,
+        /// The I/O error.
+        source: std::io::Error,
+    },
+    /// The file is not a valid STL or OBJ file.
+    #[error("mesh file '{path}' is not valid {format}: {message}")]
+    Format {
+        /// The path as given.
+        path: String,
+        /// `STL` or `OBJ`.
+        format: &'static str,
+        /// What the parser said.
+        message: String,
+    },
+    /// The file extension is neither `.stl` nor `.obj`.
+    #[error("mesh file '{path}' has unknown extension; expected .stl or .obj")]
+    Extension {
+        /// The path as given.
+        path: String,
+    },
+    /// The geometry is unusable.
+    #[error("mesh file '{path}': {message}")]
+    Geometry {
+        /// The path as given.
+        path: String,
+        /// What is wrong.
+        message: String,
+    },
+}
+
+/// Loads an STL (ASCII or binary) or OBJ file, scales it by `scale` and moves it by `translate`
+/// (m). Rejects files with no triangles, non-finite coordinates, out-of-range indices or
+/// degenerate (zero-area) triangles, naming the first bad one.
+pub fn load_mesh(path: &Path, scale: f64, translate: DVec3) -> Result<MeshWall, MeshError> {
+    let shown = path.display().to_string();
+    let ext = path
+        .extension()
+        .and_then(|e| e.to_str())
+        .map(str::to_ascii_lowercase);
+    let (vertices, triangles) = match ext.as_deref() {
+        Some("stl") => read_stl(path, &shown)?,
+        Some("obj") => read_obj(path, &shown)?,
+        _ => return Err(MeshError::Extension { path: shown }),
+    };
+    let geometry = |message: String| MeshError::Geometry {
+        path: shown.clone(),
+        message,
+    };
+    if triangles.is_empty() {
+        return Err(geometry("contains no triangles".into()));
+    }
+    if let Some(i) = vertices.iter().position(|v| !v.is_finite()) {
+        return Err(geometry(format!(
+            "vertex {i} has a non-finite coordinate {:?}",
+            vertices[i]
+        )));
+    }
+    let n = vertices.len() as u32;
+    let vertices: Vec<DVec3> = vertices
+        .into_iter()
+        .map(|v| v * scale + translate)
+        .collect();
+    let extent = vertices
+        .iter()
+        .fold(0.0f64, |m, v| m.max((*v - vertices[0]).length()));
+    for (i, t) in triangles.iter().enumerate() {
+        if t.iter().any(|&k| k >= n) {
+            return Err(geometry(format!(
+                "triangle {i} refers to a vertex beyond the {n} given"
+            )));
+        }
+        let [a, b, c] = t.map(|k| vertices[k as usize]);
+        let area2 = (b - a).cross(c - a).length();
+        if !(area2 > 1e-12 * extent * extent) {
+            return Err(geometry(format!(
+                "triangle {i} is degenerate (zero area): vertices {a}, {b}, {c}"
+            )));
+        }
+    }
+    let mesh = TriMesh::new(vertices, triangles)
+        .map_err(|e| geometry(format!("cannot build the mesh: {e}")))?;
+    Ok(MeshWall { mesh })
+}
+
+type RawMesh = (Vec<DVec3>, Vec<[u32; 3]>);
+
+fn read_stl(path: &Path, shown: &str) -> Result<RawMesh, MeshError> {
+    let mut file = std::fs::File::open(path).map_err(|source| MeshError::Read {
+        path: shown.into(),
+        source,
+    })?;
+    let stl = stl_io::read_stl(&mut file).map_err(|e| MeshError::Format {
+        path: shown.into(),
+        format: "STL",
+        message: e.to_string(),
+    })?;
+    let vertices = stl
+        .vertices
+        .iter()
+        .map(|v| DVec3::from(v.0.map(f64::from)))
+        .collect();
+    let triangles = stl
+        .faces
+        .iter()
+        .map(|f| f.vertices.map(|k| k as u32))
+        .collect();
+    Ok((vertices, triangles))
+}
+
+fn read_obj(path: &Path, shown: &str) -> Result<RawMesh, MeshError> {
+    let options = tobj::LoadOptions {
+        triangulate: true,
+        single_index: true,
+        ..Default::default()
+    };
+    let (models, _) = tobj::load_obj(path, &options).map_err(|e| match e {
+        tobj::LoadError::OpenFileFailed => MeshError::Read {
+            path: shown.into(),
+            source: std::fs::File::open(path)
+                .err()
+                .unwrap_or_else(|| std::io::Error::other(e)),
+        },
+        other => MeshError::Format {
+            path: shown.into(),
+            format: "OBJ",
+            message: other.to_string(),
+        },
+    })?;
+    let mut vertices = Vec::new();
+    let mut triangles = Vec::new();
+    for model in models {
+        let offset = vertices.len() as u32;
+        let m = model.mesh;
+        vertices.extend(
+            m.positions
+                .chunks_exact(3)
+                .map(|p| DVec3::new(p[0] as f64, p[1] as f64, p[2] as f64)),
+        );
+        triangles.extend(
+            m.indices
+                .chunks_exact(3)
+                .map(|t| [t[0] + offset, t[1] + offset, t[2] + offset]),
+        );
+    }
+    Ok((vertices, triangles))
+}
+
+impl Surface for MeshWall {
+    fn gap(&self, c: DVec3, r: f64) -> Gap {
+        let (proj, feature) = self.mesh.project_local_point_and_get_feature(c);
+        let d = c - proj.point;
+        let dist = d.length();
+        let normal = if dist > 1e-15 {
+            d / dist
+        } else {
+            // Centre on the surface: use the face normal.
+            match feature {
+                FeatureId::Face(i) => {
+                    let n = self.mesh.num_triangles() as u32;
+                    self.mesh.triangle(i % n).normal().unwrap_or(DVec3::Z)
+                }
+                _ => DVec3::Z,
+            }
+        };
+        Gap {
+            gap: dist - r,
+            normal,
+        }
+    }
+
+    fn sweep(&self, c0: DVec3, c1: DVec3, r: f64) -> Option<Crossing> {
+        let ball = Ball::new(r);
+        let options = ShapeCastOptions {
+            max_time_of_impact: 1.0,
+            ..Default::default()
+        };
+        let cast = |from: DVec3, to: DVec3| {
+            cast_shapes(
+                &Pose::IDENTITY,
+                DVec3::ZERO,
+                &self.mesh,
+                &Pose::from_translation(from),
+                to - from,
+                &ball,
+                options,
+            )
+            .ok()
+            .flatten()
+            .map(|hit| hit.time_of_impact)
+        };
+        let enter = cast(c0, c1)?;
+        let exit = cast(c1, c0).map_or(1.0, |back| 1.0 - back);
+        Some(Crossing {
+            enter,
+            exit: exit.max(enter),
+        })
+    }
+
+    fn may_touch(&self, c0: DVec3, c1: DVec3, r: f64) -> bool {
+        let aabb = self.mesh.local_aabb();
+        boxes_overlap(c0, c1, r, aabb.mins, aabb.maxs)
+    }
+}

@@ -1,0 +1,161 @@
+//! Static walls: closed-form shapes and triangle meshes (parry3d-f64).
+//!
+//! Each shape answers two questions about a sphere of radius `r`:
+//! - [`Surface::gap`]: the signed gap between the sphere's surface and the wall, and the wall's
+//!   unit normal towards the sphere's centre;
+//! - [`Surface::sweep`]: where along a straight move `c0 → c1` the sphere first touches the
+//!   wall while approaching it, and where it would leave it (the chord test used to detect a
+//!   contact inside a step; [`crate::contact`] then locates it on the curved path).
+//!
+//! Planes, boxes and the inside of a cylinder are closed form: a faceted mesh of a cylinder
+//! gives normals off by up to π/N. Meshes go through parry's `TriMesh` and `cast_shapes`.
+
+mod cuboid;
+mod cylinder;
+mod mesh;
+mod plane;
+
+pub use cuboid::Cuboid;
+pub use cylinder::Cylinder;
+pub use mesh::{MeshError, MeshWall, load_mesh};
+pub use plane::Plane;
+
+use glam::DVec3;
+
+/// A wall's material: elastic constants for the Hertz contact time of solid particles, and an
+/// optional restitution in air that overrides the particle kind's.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct WallMaterial {
+    /// Young's modulus `Ew` (Pa); needed when the scene has solid particles.
+    pub youngs_modulus: Option<f64>,
+    /// Poisson ratio `νw`; needed when the scene has solid particles.
+    pub poisson_ratio: Option<f64>,
+    /// `ε_max` of impacts on this wall, overriding the particle kind's.
+    pub restitution_max: Option<f64>,
+}
+
+/// The geometry of a wall.
+#[derive(Debug, Clone)]
+pub enum Shape {
+    /// Infinite plane; particles on the side the normal points to.
+    Plane(Plane),
+    /// Axis-aligned box, particles inside or outside.
+    Cuboid(Cuboid),
+    /// Lateral surface of a cylinder, particles inside.
+    Cylinder(Cylinder),
+    /// Triangle mesh (either side).
+    Mesh(Box<MeshWall>),
+}
+
+/// A named static wall.
+#[derive(Debug, Clone)]
+pub struct Wall {
+    /// Name used in events and summaries.
+    pub name: String,
+    /// Material of the wall.
+    pub material: WallMaterial,
+    /// Geometry.
+    pub shape: Shape,
+}
+
+/// The gap between a sphere and a wall.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Gap {
+    /// Distance between the sphere's surface and the wall (m); negative when they overlap.
+    pub gap: f64,
+    /// Unit normal of the wall at the nearest point, pointing towards the sphere's centre.
+    pub normal: DVec3,
+}
+
+/// The part of a straight move `λ ∈ [0, 1]` during which a sphere overlaps a wall.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Crossing {
+    /// First touch, while approaching.
+    pub enter: f64,
+    /// Where the straight move would leave the wall again (1 if it does not within the move).
+    pub exit: f64,
+}
+
+/// Closed-form or mesh geometry queries for a sphere of radius `r` (m).
+pub trait Surface {
+    /// Signed gap and normal for a sphere centred at `c`.
+    fn gap(&self, c: DVec3, r: f64) -> Gap;
+    /// First contact of a sphere moving straight from `c0` to `c1`, if it approaches the wall.
+    fn sweep(&self, c0: DVec3, c1: DVec3, r: f64) -> Option<Crossing>;
+    /// Broad phase: false only when the move `c0 → c1` certainly stays clear of the wall.
+    fn may_touch(&self, c0: DVec3, c1: DVec3, r: f64) -> bool;
+}
+
+impl Surface for Shape {
+    fn gap(&self, c: DVec3, r: f64) -> Gap {
+        match self {
+            Shape::Plane(s) => s.gap(c, r),
+            Shape::Cuboid(s) => s.gap(c, r),
+            Shape::Cylinder(s) => s.gap(c, r),
+            Shape::Mesh(s) => s.gap(c, r),
+        }
+    }
+
+    fn sweep(&self, c0: DVec3, c1: DVec3, r: f64) -> Option<Crossing> {
+        match self {
+            Shape::Plane(s) => s.sweep(c0, c1, r),
+            Shape::Cuboid(s) => s.sweep(c0, c1, r),
+            Shape::Cylinder(s) => s.sweep(c0, c1, r),
+            Shape::Mesh(s) => s.sweep(c0, c1, r),
+        }
+    }
+
+    fn may_touch(&self, c0: DVec3, c1: DVec3, r: f64) -> bool {
+        match self {
+            Shape::Plane(s) => s.may_touch(c0, c1, r),
+            Shape::Cuboid(s) => s.may_touch(c0, c1, r),
+            Shape::Cylinder(s) => s.may_touch(c0, c1, r),
+            Shape::Mesh(s) => s.may_touch(c0, c1, r),
+        }
+    }
+}
+
+/// Broad phase for shapes whose gap is smallest at an end of a straight move (half-spaces,
+/// the inside of a box or a cylinder): the move may touch only if an end does.
+pub(crate) fn ends_touch(s: &impl Surface, c0: DVec3, c1: DVec3, r: f64) -> bool {
+    s.gap(c0, r).gap <= 0.0 || s.gap(c1, r).gap <= 0.0
+}
+
+/// Broad phase against a bounded shape: the swept sphere's box overlaps the shape's box.
+pub(crate) fn boxes_overlap(c0: DVec3, c1: DVec3, r: f64, min: DVec3, max: DVec3) -> bool {
+    let lo = c0.min(c1) - DVec3::splat(r);
+    let hi = c0.max(c1) + DVec3::splat(r);
+    lo.cmple(max).all() && hi.cmpge(min).all()
+}
+
+/// Crossing of a gap that varies linearly along the move, from `g0` to `g1` (a plane, a face).
+pub(crate) fn linear_crossing(g0: f64, g1: f64) -> Option<Crossing> {
+    if g1 >= g0 || g1 > 0.0 {
+        // Receding, or still apart at the end of the move.
+        return None;
+    }
+    let enter = if g0 <= 0.0 { 0.0 } else { g0 / (g0 - g1) };
+    Some(Crossing { enter, exit: 1.0 })
+}
+
+/// First root along the move of a gap that is a convex function of `λ` (distance to a convex
+/// body minus `r`): Newton's method from `λ = 0` never overshoots such a root, and a
+/// non-negative slope before it means the move never reaches the body.
+pub(crate) fn convex_crossing(gap: impl Fn(f64) -> Gap, dir: DVec3, tol: f64) -> Option<f64> {
+    let mut lambda = 0.0;
+    for _ in 0..100 {
+        let g = gap(lambda);
+        let slope = g.normal.dot(dir);
+        if g.gap <= tol {
+            return (slope < 0.0 || lambda > 0.0).then_some(lambda);
+        }
+        if slope >= 0.0 {
+            return None;
+        }
+        lambda -= g.gap / slope;
+        if lambda > 1.0 {
+            return None;
+        }
+    }
+    Some(lambda)
+}
