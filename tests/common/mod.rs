@@ -1,0 +1,46 @@
+//! Helpers shared by the integration tests.
+#![allow(dead_code)]
+
+use std::path::Path;
+use wetbounce::{Scene, Simulation};
+
+/// Builds a scene from TOML text, as if it were a file in `scenes/`.
+pub fn scene(text: &str) -> Scene {
+    Scene::from_str(
+        text,
+        Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/scenes/test.toml")),
+    )
+    .unwrap_or_else(|e| panic!("{e}"))
+}
+
+/// Loads a shipped scene with one `[simulation]` value replaced (e.g. `dt`, `integrator`).
+pub fn shipped_with(name: &str, key: &str, value: &str) -> Scene {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("scenes")
+        .join(name);
+    let text = std::fs::read_to_string(&path).unwrap();
+    let replaced: Vec<String> = text
+        .lines()
+        .map(|l| {
+            if l.trim_start().starts_with(&format!("{key} "))
+                || l.trim_start().starts_with(&format!("{key}="))
+            {
+                format!("{key} = {value}")
+            } else {
+                l.to_string()
+            }
+        })
+        .collect();
+    Scene::from_str(&replaced.join("\n"), &path).unwrap_or_else(|e| panic!("{e}"))
+}
+
+/// Runs a simulation to `t_end`, collecting every contact event.
+pub fn run_collect(sim: &mut Simulation, t_end: f64) -> Vec<wetbounce::ContactEvent> {
+    let mut events = Vec::new();
+    while sim.time < t_end {
+        let next = (sim.time + 64.0 * sim.dt).min(t_end);
+        sim.advance_to(next);
+        events.append(&mut sim.events);
+    }
+    events
+}
