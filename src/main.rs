@@ -1,6 +1,8 @@
 //! The `wetbounce` command line: `run` a scene, or `check` it.
 
 use clap::{Parser, Subcommand};
+use std::fmt::Write as _;
+use std::io::Write as _;
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 use std::sync::atomic::AtomicBool;
@@ -48,7 +50,20 @@ fn main() -> ExitCode {
         Command::Check { scene } => check_scene(&scene),
     };
     match result {
-        Ok(code) => code,
+        Ok(text) => {
+            // Reading only the head of the output (`| head`) closes the pipe: not an error.
+            let mut stdout = std::io::stdout().lock();
+            match stdout
+                .write_all(text.as_bytes())
+                .and_then(|()| stdout.flush())
+            {
+                Err(e) if e.kind() != std::io::ErrorKind::BrokenPipe => {
+                    eprintln!("error: cannot write to standard output: {e}");
+                    ExitCode::FAILURE
+                }
+                _ => ExitCode::SUCCESS,
+            }
+        }
         Err(message) => {
             eprintln!("error: {message}");
             ExitCode::FAILURE
@@ -56,7 +71,8 @@ fn main() -> ExitCode {
     }
 }
 
-fn run_scene(path: &Path, out: Option<PathBuf>, threads: Option<u16>) -> Result<ExitCode, String> {
+fn run_scene(path: &Path, out: Option<PathBuf>, threads: Option<u16>) -> Result<String, String> {
+    let mut text = String::new();
     if let Some(n) = threads {
         rayon::ThreadPoolBuilder::new()
             .num_threads(n as usize)
@@ -90,7 +106,8 @@ fn run_scene(path: &Path, out: Option<PathBuf>, threads: Option<u16>) -> Result<
         .map_err(|e| e.to_string())?
     };
     let count = |s: State| sim.particles.state.iter().filter(|&&x| x == s).count();
-    println!(
+    let _ = writeln!(
+        text,
         "{}: {:.6} s simulated in {} steps, {:.3} s wall time ({} particles, {} integrator)",
         path.display(),
         report.time,
@@ -99,8 +116,9 @@ fn run_scene(path: &Path, out: Option<PathBuf>, threads: Option<u16>) -> Result<
         sim.particles.len(),
         scene.integrator.name()
     );
-    println!("{stats}");
-    println!(
+    let _ = writeln!(text, "{stats}");
+    let _ = writeln!(
+        text,
         "at the end: {} free, {} held, {} resting; {} lost to non-finite state",
         count(State::Free),
         count(State::Held),
@@ -113,18 +131,21 @@ fn run_scene(path: &Path, out: Option<PathBuf>, threads: Option<u16>) -> Result<
             lost.id, lost.time
         );
     }
-    println!(
+    let _ = writeln!(
+        text,
         "wrote {} and {}",
         out.join("trajectories.csv").display(),
         out.join("events.csv").display()
     );
-    Ok(ExitCode::SUCCESS)
+    Ok(text)
 }
 
-fn check_scene(path: &Path) -> Result<ExitCode, String> {
+fn check_scene(path: &Path) -> Result<String, String> {
+    let mut text = String::new();
     let scene = Scene::load(path).map_err(|e| e.to_string())?;
-    println!("{}: valid", path.display());
-    println!(
+    let _ = writeln!(text, "{}: valid", path.display());
+    let _ = writeln!(
+        text,
         "  {} particles, {} walls, effects [{}], integrator {}, dt = {} s, duration = {} s",
         scene.particles.len(),
         scene.walls.len(),
@@ -133,35 +154,50 @@ fn check_scene(path: &Path) -> Result<ExitCode, String> {
         scene.dt,
         scene.duration
     );
-    println!(
+    let _ = writeln!(
+        text,
         "  bounce: beta = {}, St_c = {}, e_t = {}, hold at contact: {}",
         scene.rule.beta,
         scene.rule.st_critical,
         scene.rule.tangential_restitution,
         scene.rule.hold_at_contact
     );
-    println!(
+    let _ = writeln!(
+        text,
         "  {:<12} {:>9} {:>10} {:>8} {:>8} {:>7} {:>10} {:>10} {:>8}  bounces",
         "kind", "d [mm]", "V_t [m/s]", "Re", "St", "eps", "t_c [ms]", "t_r [ms]", "t_c/t_r"
     );
+    // In vacuum or without drag some time scales do not exist: print "-".
+    let num = |v: f64, prec: usize| {
+        if v.is_finite() {
+            format!("{v:.prec$}")
+        } else {
+            "-".into()
+        }
+    };
     for r in kind_reports(&scene) {
-        println!(
-            "  {:<12} {:>9.4} {:>10.4} {:>8.2} {:>8.2} {:>7.3} {:>10.4} {:>10.3} {:>8.4}  {}{}",
+        let _ = writeln!(
+            text,
+            "  {:<12} {:>9.4} {:>10} {:>8} {:>8} {:>7.3} {:>10} {:>10} {:>8}  {}{}",
             r.kind,
             r.diameter * 1e3,
-            r.terminal_velocity,
-            r.reynolds,
-            r.stokes,
+            num(r.terminal_velocity, 4),
+            num(r.reynolds, 2),
+            num(r.stokes, 2),
             r.eps,
-            r.contact_time * 1e3,
-            r.relaxation_time * 1e3,
-            r.contact_time / r.relaxation_time,
+            num(r.contact_time * 1e3, 4),
+            num(r.relaxation_time * 1e3, 3),
+            num(r.contact_time / r.relaxation_time, 4),
             if r.bounces { "yes" } else { "no" },
             if r.rising { " (rises)" } else { "" }
         );
     }
     if let Some(wall) = scene.walls.first() {
-        println!("  (impact at terminal velocity on wall \"{}\")", wall.name);
+        let _ = writeln!(
+            text,
+            "  (impact at terminal velocity on wall \"{}\")",
+            wall.name
+        );
     }
-    Ok(ExitCode::SUCCESS)
+    Ok(text)
 }

@@ -25,14 +25,12 @@ fn default_coefficient() -> f64 {
 
 impl AddedMass {
     /// Checks the coefficient is finite and ≥ 0.
-    pub fn validated(self) -> Result<Self, String> {
+    pub fn validated(self) -> Result<Self, super::EffectError> {
         if self.coefficient.is_finite() && self.coefficient >= 0.0 {
             Ok(self)
         } else {
-            Err(format!(
-                "coefficient: must be finite and >= 0, got {}",
-                self.coefficient
-            ))
+            let message = format!("must be finite and >= 0, got {}", self.coefficient);
+            Err(super::EffectError::new("coefficient", message))
         }
     }
 }

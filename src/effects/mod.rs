@@ -35,13 +35,35 @@ pub trait Effect: std::fmt::Debug + Send + Sync {
     fn apply(&self, fluid: &Fluid, kinds: &[ParticleKind], physics: &mut Physics);
 }
 
-/// The error of [`build_effect`]: the message only; the scene loader adds file and key.
-pub type EffectError = String;
+/// The error of [`build_effect`]; the scene loader adds the file and `effects.<name>`.
+#[derive(Debug, Clone, PartialEq)]
+pub struct EffectError {
+    /// Key path inside the effect's table (empty for the table itself).
+    pub key: String,
+    /// What is wrong, with the bad value.
+    pub message: String,
+}
+
+impl EffectError {
+    /// An error about `key` of the effect's table.
+    pub fn new(key: impl Into<String>, message: impl Into<String>) -> Self {
+        EffectError {
+            key: key.into(),
+            message: message.into(),
+        }
+    }
+}
 
 /// The effect registry: builds the effect `name` from its own table of the scene file.
 pub fn build_effect(name: &str, table: toml::Value) -> Result<Box<dyn Effect>, EffectError> {
     fn parse<T: serde::de::DeserializeOwned>(table: toml::Value) -> Result<T, EffectError> {
-        T::deserialize(table).map_err(|e| e.message().to_string())
+        serde_path_to_error::deserialize(table).map_err(|e| {
+            let key = e.path().to_string();
+            EffectError::new(
+                if key == "." { String::new() } else { key },
+                e.inner().message(),
+            )
+        })
     }
     Ok(match name {
         "gravity" => Box::new(parse::<Gravity>(table)?),
@@ -50,9 +72,12 @@ pub fn build_effect(name: &str, table: toml::Value) -> Result<Box<dyn Effect>, E
         "added_mass" => Box::new(parse::<AddedMass>(table)?.validated()?),
         "contact_time" => Box::new(parse::<ContactTime>(table)?),
         other => {
-            return Err(format!(
-                "unknown effect \"{other}\"; valid effects are: {}",
-                EFFECT_NAMES.join(", ")
+            return Err(EffectError::new(
+                "",
+                format!(
+                    "unknown effect \"{other}\"; valid effects are: {}",
+                    EFFECT_NAMES.join(", ")
+                ),
             ));
         }
     })

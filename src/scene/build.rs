@@ -19,10 +19,10 @@ const EQ4_POLE: f64 = 0.196_874_404_3;
 pub(super) fn parse(source: &str, path: &Path) -> Result<SceneFile, SceneError> {
     let located = |key: String, e: &toml::de::Error| {
         let at = e.span().map(|s| {
-            let before = &source[..s.start.min(source.len())];
-            let line = before.matches('\n').count() + 1;
+            let start = s.start.min(source.len());
+            let before = &source[..start];
             let col = before.len() - before.rfind('\n').map_or(0, |i| i + 1) + 1;
-            format!(" (line {line}, column {col})")
+            format!(" (line {}, column {col})", line_of(source, start))
         });
         SceneError::Parse {
             file: path.to_path_buf(),
@@ -43,6 +43,11 @@ pub(super) fn parse(source: &str, path: &Path) -> Result<SceneFile, SceneError> 
     })
 }
 
+/// 1-based line of byte offset `at` in `source`.
+fn line_of(source: &str, at: usize) -> usize {
+    source[..at.min(source.len())].matches('\n').count() + 1
+}
+
 pub(super) fn build(file: SceneFile, base: &Path, source: &str) -> Result<Scene, Invalid> {
     let sim = &file.simulation;
     let dt = check::positive("simulation.dt", sim.dt)?;
@@ -56,16 +61,23 @@ pub(super) fn build(file: SceneFile, base: &Path, source: &str) -> Result<Scene,
     let mut effects = Vec::new();
     for (name, table) in &file.effects {
         let key = format!("effects.{name}");
-        let table = match table {
-            toml::Value::Table(_) => table.clone(),
-            other => {
-                return Err(Invalid::new(
-                    key,
-                    format!("must be a table such as {{}}, got {other}"),
-                ));
-            }
-        };
-        effects.push(build_effect(name, table).map_err(|m| Invalid::new(key, m))?);
+        let line = format!(" (line {})", line_of(source, table.span().start));
+        let value = table.get_ref();
+        if !value.is_table() {
+            return Err(Invalid::new(
+                key,
+                format!("must be a table such as {{}}, got {value}{line}"),
+            ));
+        }
+        let effect = build_effect(name, value.clone()).map_err(|e| {
+            let key = if e.key.is_empty() {
+                key.clone()
+            } else {
+                format!("{key}.{}", e.key)
+            };
+            Invalid::new(key, format!("{}{line}", e.message))
+        })?;
+        effects.push(effect);
     }
     let physics = Physics::build(&fluid, &kinds, &effects);
     if physics.drag.is_some() && fluid.viscosity <= 0.0 {
@@ -126,10 +138,18 @@ fn build_fluid(f: &FluidSpec) -> Result<Fluid, Invalid> {
         density: check::non_negative("fluid.density", f.density)?,
         viscosity: check::non_negative("fluid.viscosity", f.viscosity)?,
         gravity: check::vector("fluid.gravity", f.gravity)?,
-        flow: match f.flow {
-            FlowSpec::Quiescent => Flow::Quiescent,
-            FlowSpec::Uniform { velocity } => {
-                Flow::Uniform(check::vector("fluid.flow.velocity", velocity)?)
+        flow: match f.flow.flow {
+            FlowType::Quiescent => {
+                forbid(
+                    "fluid.flow.velocity",
+                    f.flow.velocity.is_some(),
+                    "a quiescent flow",
+                )?;
+                Flow::Quiescent
+            }
+            FlowType::Uniform => {
+                let v = required("fluid.flow.velocity", f.flow.velocity, "a uniform flow")?;
+                Flow::Uniform(check::vector("fluid.flow.velocity", v)?)
             }
         },
     })
@@ -145,36 +165,47 @@ fn build_kinds(specs: &[KindSpec]) -> Result<Vec<ParticleKind>, Invalid> {
     let mut kinds: Vec<ParticleKind> = Vec::new();
     for (i, spec) in specs.iter().enumerate() {
         let key = |field: &str| format!("kinds[{i}].{field}");
-        let (name, density, restitution_max, material) = match spec {
-            KindSpec::Solid {
-                name,
-                density,
-                restitution_max,
-                youngs_modulus,
-                poisson_ratio,
-            } => (
-                name,
-                density,
-                restitution_max,
+        let name = &spec.name;
+        let material = match spec.material {
+            KindType::Solid => {
+                forbid(
+                    &key("surface_tension"),
+                    spec.surface_tension.is_some(),
+                    "a solid (drops have it)",
+                )?;
                 Material::Solid {
-                    youngs_modulus: check::positive(&key("youngs_modulus"), *youngs_modulus)?,
-                    poisson_ratio: poisson(&key("poisson_ratio"), *poisson_ratio)?,
-                },
-            ),
-            KindSpec::Drop {
-                name,
-                density,
-                restitution_max,
-                surface_tension,
-            } => (
-                name,
-                density,
-                restitution_max,
+                    youngs_modulus: check::positive(
+                        &key("youngs_modulus"),
+                        required(&key("youngs_modulus"), spec.youngs_modulus, "a solid")?,
+                    )?,
+                    poisson_ratio: poisson(
+                        &key("poisson_ratio"),
+                        required(&key("poisson_ratio"), spec.poisson_ratio, "a solid")?,
+                    )?,
+                }
+            }
+            KindType::Drop => {
+                forbid(
+                    &key("youngs_modulus"),
+                    spec.youngs_modulus.is_some(),
+                    "a drop (solids have it)",
+                )?;
+                forbid(
+                    &key("poisson_ratio"),
+                    spec.poisson_ratio.is_some(),
+                    "a drop (solids have it)",
+                )?;
+                required(&key("restitution_max"), spec.restitution_max, "a drop")?;
                 Material::Drop {
-                    surface_tension: check::positive(&key("surface_tension"), *surface_tension)?,
-                },
-            ),
+                    surface_tension: check::positive(
+                        &key("surface_tension"),
+                        required(&key("surface_tension"), spec.surface_tension, "a drop")?,
+                    )?,
+                }
+            }
         };
+        let restitution_max = spec.restitution_max.unwrap_or(1.0);
+        let density = spec.density;
         if name.trim().is_empty() {
             return Err(Invalid::new(key("name"), "must not be empty"));
         }
@@ -189,12 +220,26 @@ fn build_kinds(specs: &[KindSpec]) -> Result<Vec<ParticleKind>, Invalid> {
         }
         kinds.push(ParticleKind {
             name: name.clone(),
-            density: check::positive(&key("density"), *density)?,
-            restitution_max: check::in_range(&key("restitution_max"), *restitution_max, 0.0, 1.0)?,
+            density: check::positive(&key("density"), density)?,
+            restitution_max: check::in_range(&key("restitution_max"), restitution_max, 0.0, 1.0)?,
             material,
         });
     }
     Ok(kinds)
+}
+
+/// A key the entry's `type` needs.
+fn required<T>(key: &str, v: Option<T>, what: &str) -> Result<T, Invalid> {
+    v.ok_or_else(|| Invalid::new(key, format!("missing: required for {what}")))
+}
+
+/// A key the entry's `type` does not have.
+fn forbid(key: &str, present: bool, what: &str) -> Result<(), Invalid> {
+    if present {
+        Err(Invalid::new(key, format!("not a key of {what}")))
+    } else {
+        Ok(())
+    }
 }
 
 fn poisson(key: &str, v: f64) -> Result<f64, Invalid> {
@@ -229,30 +274,29 @@ fn build_walls(specs: &[WallSpec], base: &Path) -> Result<Vec<Wall>, Invalid> {
     for (i, spec) in specs.iter().enumerate() {
         let key = format!("walls[{i}]");
         let k = |f: &str| format!("{key}.{f}");
-        let (name, material, shape) = match spec {
-            WallSpec::Plane {
-                name,
-                point,
-                normal,
-                material,
-            } => (
-                name,
-                material,
-                Shape::Plane(Plane {
-                    point: check::vector(&k("point"), *point)?,
-                    normal: check::direction(&k("normal"), *normal)?,
-                }),
-            ),
-            WallSpec::Box {
-                name,
-                min,
-                max,
-                inside,
-                material,
-            } => {
+        let (allowed, what): (&[&str], &str) = match spec.shape {
+            WallType::Plane => (&["point", "normal"], "a plane"),
+            WallType::Box => (&["min", "max", "inside"], "a box"),
+            WallType::Cylinder => (&["base", "axis", "radius", "length"], "a cylinder"),
+            WallType::Mesh => (&["file", "scale", "translate"], "a mesh"),
+        };
+        if let Some(extra) = spec.present().into_iter().find(|f| !allowed.contains(f)) {
+            return Err(Invalid::new(
+                k(extra),
+                format!("not a key of {what}; its keys are: {}", allowed.join(", ")),
+            ));
+        }
+        let need = |f: &str, v: Option<[f64; 3]>| required(&k(f), v, what);
+        let shape = match spec.shape {
+            WallType::Plane => Shape::Plane(Plane {
+                point: check::vector(&k("point"), need("point", spec.point)?)?,
+                normal: check::direction(&k("normal"), need("normal", spec.normal)?)?,
+            }),
+            WallType::Box => {
+                let (min, max) = (need("min", spec.min)?, need("max", spec.max)?);
                 let (lo, hi) = (
-                    check::vector(&k("min"), *min)?,
-                    check::vector(&k("max"), *max)?,
+                    check::vector(&k("min"), min)?,
+                    check::vector(&k("max"), max)?,
                 );
                 if !lo.cmplt(hi).all() {
                     return Err(Invalid::new(
@@ -260,59 +304,43 @@ fn build_walls(specs: &[WallSpec], base: &Path) -> Result<Vec<Wall>, Invalid> {
                         format!("must exceed min on every axis, got min {min:?}, max {max:?}"),
                     ));
                 }
-                (
-                    name,
-                    material,
-                    Shape::Cuboid(Cuboid {
-                        min: lo,
-                        max: hi,
-                        inside: *inside,
-                    }),
-                )
+                let inside = required(
+                    &k("inside"),
+                    spec.inside,
+                    "a box (true: particles inside it; false: it is an obstacle)",
+                )?;
+                Shape::Cuboid(Cuboid {
+                    min: lo,
+                    max: hi,
+                    inside,
+                })
             }
-            WallSpec::Cylinder {
-                name,
-                base: b,
-                axis,
-                radius,
-                length,
-                material,
-            } => {
-                let hi = match length {
-                    Some(l) => check::positive(&k("length"), *l)?,
-                    None => f64::INFINITY,
+            WallType::Cylinder => {
+                let (lo, hi) = match spec.length {
+                    Some(l) => (0.0, check::positive(&k("length"), l)?),
+                    None => (f64::NEG_INFINITY, f64::INFINITY),
                 };
-                let lo = if length.is_some() {
-                    0.0
-                } else {
-                    f64::NEG_INFINITY
-                };
-                (
-                    name,
-                    material,
-                    Shape::Cylinder(Cylinder {
-                        base: check::vector(&k("base"), *b)?,
-                        axis: check::direction(&k("axis"), *axis)?,
-                        radius: check::positive(&k("radius"), *radius)?,
-                        lo,
-                        hi,
-                    }),
-                )
+                Shape::Cylinder(Cylinder {
+                    base: check::vector(&k("base"), need("base", spec.base)?)?,
+                    axis: check::direction(&k("axis"), spec.axis.unwrap_or([0.0, 0.0, 1.0]))?,
+                    radius: check::positive(
+                        &k("radius"),
+                        required(&k("radius"), spec.radius, what)?,
+                    )?,
+                    lo,
+                    hi,
+                })
             }
-            WallSpec::Mesh {
-                name,
-                file,
-                scale,
-                translate,
-                material,
-            } => {
-                let scale = check::positive(&k("scale"), *scale)?;
-                let translate = check::vector(&k("translate"), *translate)?;
-                let mesh = load_mesh(&base.join(file), scale, translate)
+            WallType::Mesh => {
+                let file = required(&k("file"), spec.file.clone(), what)?;
+                let scale = check::positive(&k("scale"), spec.scale.unwrap_or(1.0))?;
+                let translate = check::vector(&k("translate"), spec.translate.unwrap_or([0.0; 3]))?;
+                let mesh = load_mesh(&base.join(&file), scale, translate)
                     .map_err(|e| Invalid::new(k("file"), e.to_string()))?;
-                (name, material, Shape::Mesh(Box::new(mesh)))
+                Shape::Mesh(Box::new(mesh))
             }
         };
+        let (name, material) = (&spec.name, &spec.material);
         if name.trim().is_empty() {
             return Err(Invalid::new(k("name"), "must not be empty"));
         }

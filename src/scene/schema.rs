@@ -11,8 +11,9 @@ pub struct SceneFile {
     pub fluid: FluidSpec,
     #[serde(default)]
     pub bounce: BounceSpec,
+    /// Effect name → its table, with the table's place in the file for messages.
     #[serde(default)]
-    pub effects: toml::Table,
+    pub effects: indexmap::IndexMap<String, toml::Spanned<toml::Value>>,
     pub kinds: Vec<KindSpec>,
     #[serde(default)]
     pub walls: Vec<WallSpec>,
@@ -53,14 +54,22 @@ fn default_gravity() -> [f64; 3] {
     [0.0, 0.0, -9.81]
 }
 
+/// `fluid.flow`: one flat table whose `type` says which other keys it needs, so that every
+/// error keeps its exact key path and line (serde's tagged enums lose both).
 #[derive(Debug, Clone, Default, Deserialize)]
-#[serde(tag = "type", rename_all = "snake_case", deny_unknown_fields)]
-pub enum FlowSpec {
+#[serde(deny_unknown_fields)]
+pub struct FlowSpec {
+    #[serde(rename = "type", default)]
+    pub flow: FlowType,
+    pub velocity: Option<[f64; 3]>,
+}
+
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum FlowType {
     #[default]
     Quiescent,
-    Uniform {
-        velocity: [f64; 3],
-    },
+    Uniform,
 }
 
 #[derive(Debug, Clone, Deserialize)]
@@ -94,23 +103,25 @@ fn one() -> f64 {
     1.0
 }
 
+/// One `[[kinds]]` entry; `type` says which material keys it needs (checked in `build`).
 #[derive(Debug, Clone, Deserialize)]
-#[serde(tag = "type", rename_all = "snake_case", deny_unknown_fields)]
-pub enum KindSpec {
-    Solid {
-        name: String,
-        density: f64,
-        #[serde(default = "one")]
-        restitution_max: f64,
-        youngs_modulus: f64,
-        poisson_ratio: f64,
-    },
-    Drop {
-        name: String,
-        density: f64,
-        restitution_max: f64,
-        surface_tension: f64,
-    },
+#[serde(deny_unknown_fields)]
+pub struct KindSpec {
+    pub name: String,
+    #[serde(rename = "type")]
+    pub material: KindType,
+    pub density: f64,
+    pub restitution_max: Option<f64>,
+    pub youngs_modulus: Option<f64>,
+    pub poisson_ratio: Option<f64>,
+    pub surface_tension: Option<f64>,
+}
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum KindType {
+    Solid,
+    Drop,
 }
 
 #[derive(Debug, Clone, Default, Deserialize)]
@@ -121,48 +132,61 @@ pub struct MaterialSpec {
     pub restitution_max: Option<f64>,
 }
 
+/// One `[[walls]]` entry; `type` says which geometry keys it needs (checked in `build`).
 #[derive(Debug, Clone, Deserialize)]
-#[serde(tag = "type", rename_all = "snake_case", deny_unknown_fields)]
-pub enum WallSpec {
-    Plane {
-        name: String,
-        point: [f64; 3],
-        normal: [f64; 3],
-        #[serde(default)]
-        material: MaterialSpec,
-    },
-    Box {
-        name: String,
-        min: [f64; 3],
-        max: [f64; 3],
-        inside: bool,
-        #[serde(default)]
-        material: MaterialSpec,
-    },
-    Cylinder {
-        name: String,
-        base: [f64; 3],
-        #[serde(default = "default_axis")]
-        axis: [f64; 3],
-        radius: f64,
-        length: Option<f64>,
-        #[serde(default)]
-        material: MaterialSpec,
-    },
-    Mesh {
-        name: String,
-        file: String,
-        #[serde(default = "one")]
-        scale: f64,
-        #[serde(default)]
-        translate: [f64; 3],
-        #[serde(default)]
-        material: MaterialSpec,
-    },
+#[serde(deny_unknown_fields)]
+pub struct WallSpec {
+    pub name: String,
+    #[serde(rename = "type")]
+    pub shape: WallType,
+    pub point: Option<[f64; 3]>,
+    pub normal: Option<[f64; 3]>,
+    pub min: Option<[f64; 3]>,
+    pub max: Option<[f64; 3]>,
+    pub inside: Option<bool>,
+    pub base: Option<[f64; 3]>,
+    pub axis: Option<[f64; 3]>,
+    pub radius: Option<f64>,
+    pub length: Option<f64>,
+    pub file: Option<String>,
+    pub scale: Option<f64>,
+    pub translate: Option<[f64; 3]>,
+    #[serde(default)]
+    pub material: MaterialSpec,
 }
 
-fn default_axis() -> [f64; 3] {
-    [0.0, 0.0, 1.0]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum WallType {
+    Plane,
+    Box,
+    Cylinder,
+    Mesh,
+}
+
+impl WallSpec {
+    /// The geometry keys present in this entry, with their names.
+    pub fn present(&self) -> Vec<&'static str> {
+        let mut keys = Vec::new();
+        let mut note = |name: &'static str, here: bool| {
+            if here {
+                keys.push(name);
+            }
+        };
+        note("point", self.point.is_some());
+        note("normal", self.normal.is_some());
+        note("min", self.min.is_some());
+        note("max", self.max.is_some());
+        note("inside", self.inside.is_some());
+        note("base", self.base.is_some());
+        note("axis", self.axis.is_some());
+        note("radius", self.radius.is_some());
+        note("length", self.length.is_some());
+        note("file", self.file.is_some());
+        note("scale", self.scale.is_some());
+        note("translate", self.translate.is_some());
+        keys
+    }
 }
 
 #[derive(Debug, Clone, Deserialize)]

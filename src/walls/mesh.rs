@@ -4,14 +4,17 @@ use super::{Crossing, Gap, Surface, boxes_overlap};
 use glam::DVec3;
 use parry3d_f64::math::Pose;
 use parry3d_f64::query::{PointQuery, ShapeCastOptions, cast_shapes};
-use parry3d_f64::shape::{Ball, FeatureId, TriMesh};
+use parry3d_f64::shape::{Ball, FeatureId, TriMesh, TriMeshFlags};
 use std::path::Path;
 
-/// A triangle mesh wall. Particles may touch either side.
+/// A triangle mesh wall. An open mesh (a sheet) can be touched from either side; a closed
+/// mesh is a solid body, whose inside is behind the wall (negative gap).
 #[derive(Debug, Clone)]
 pub struct MeshWall {
-    /// The mesh, in scene coordinates (m).
+    /// The mesh, in scene coordinates (m), outward-oriented when closed.
     pub mesh: TriMesh,
+    /// Whether every edge is shared by exactly two triangles with opposite directions.
+    pub closed: bool,
 }
 
 /// Why a mesh file could not be used.
@@ -94,15 +97,70 @@ pub fn load_mesh(path: &Path, scale: f64, translate: DVec3) -> Result<MeshWall, 
         }
         let [a, b, c] = t.map(|k| vertices[k as usize]);
         let area2 = (b - a).cross(c - a).length();
-        if !(area2 > 1e-12 * extent * extent) {
+        // Coordinates are finite here, so the area is a number.
+        if area2 <= 1e-12 * extent * extent {
             return Err(geometry(format!(
                 "triangle {i} is degenerate (zero area): vertices {a}, {b}, {c}"
             )));
         }
     }
-    let mesh = TriMesh::new(vertices, triangles)
+    let (vertices, mut triangles) = merge_duplicate_vertices(vertices, triangles);
+    let closed = is_closed(&triangles);
+    let mut flags = TriMeshFlags::empty();
+    if closed {
+        // Outward orientation, so that parry's pseudo-normals tell inside from outside.
+        let volume: f64 = triangles
+            .iter()
+            .map(|t| {
+                let [a, b, c] = t.map(|k| vertices[k as usize]);
+                a.dot(b.cross(c))
+            })
+            .sum();
+        if volume < 0.0 {
+            triangles.iter_mut().for_each(|t| t.swap(1, 2));
+        }
+        flags = TriMeshFlags::ORIENTED;
+    }
+    let mesh = TriMesh::with_flags(vertices, triangles, flags)
         .map_err(|e| geometry(format!("cannot build the mesh: {e}")))?;
-    Ok(MeshWall { mesh })
+    Ok(MeshWall { mesh, closed })
+}
+
+/// Vertices with identical coordinates become one (STL and OBJ repeat them per face).
+fn merge_duplicate_vertices(vertices: Vec<DVec3>, triangles: Vec<[u32; 3]>) -> RawMesh {
+    let mut index = std::collections::HashMap::new();
+    let mut merged = Vec::new();
+    let remap: Vec<u32> = vertices
+        .iter()
+        .map(|v| {
+            *index
+                .entry(v.to_array().map(f64::to_bits))
+                .or_insert_with(|| {
+                    merged.push(*v);
+                    merged.len() as u32 - 1
+                })
+        })
+        .collect();
+    (
+        merged,
+        triangles
+            .into_iter()
+            .map(|t| t.map(|k| remap[k as usize]))
+            .collect(),
+    )
+}
+
+/// Closed and consistently oriented: each directed edge once, and its reverse once.
+fn is_closed(triangles: &[[u32; 3]]) -> bool {
+    let mut edges = std::collections::HashMap::new();
+    for t in triangles {
+        for (a, b) in [(t[0], t[1]), (t[1], t[2]), (t[2], t[0])] {
+            *edges.entry((a, b)).or_insert(0u32) += 1;
+        }
+    }
+    edges
+        .iter()
+        .all(|(&(a, b), &n)| n == 1 && edges.get(&(b, a)) == Some(&1))
 }
 
 type RawMesh = (Vec<DVec3>, Vec<[u32; 3]>);
@@ -173,6 +231,13 @@ impl Surface for MeshWall {
         let (proj, feature) = self.mesh.project_local_point_and_get_feature(c);
         let d = c - proj.point;
         let dist = d.length();
+        if self.closed && proj.is_inside && dist > 0.0 {
+            // Inside a solid body: the gap is negative, the normal points out of it.
+            return Gap {
+                gap: -dist - r,
+                normal: -d / dist,
+            };
+        }
         let normal = if dist > 1e-15 {
             d / dist
         } else {

@@ -1,0 +1,162 @@
+//! The bounce rule's cases (PHYSICS.md §5) on simple geometries.
+
+mod common;
+use glam::DVec3;
+use wetbounce::Outcome;
+use wetbounce::particles::State;
+
+/// A 2 mm bead in a viscous liquid over a floor; `extra` adds TOML (walls, bounce, flow).
+fn bead_scene(velocity: [f64; 3], z0: f64, extra: &str, fluid_extra: &str) -> wetbounce::Scene {
+    common::scene(&format!(
+        r#"
+{extra}
+[simulation]
+dt = 1e-4
+duration = 1.0
+output_interval = 0.01
+[fluid]
+density = 1000.0
+viscosity = 1e-3
+{fluid_extra}
+[effects]
+gravity = {{}}
+buoyancy = {{}}
+drag = {{}}
+added_mass = {{}}
+[[kinds]]
+name = "glass"
+type = "solid"
+density = 2500.0
+youngs_modulus = 6e10
+poisson_ratio = 0.23
+restitution_max = 0.95
+[[walls]]
+name = "floor"
+type = "plane"
+point = [0.0, 0.0, 0.0]
+normal = [0.0, 0.0, 1.0]
+[[particles]]
+kind = "glass"
+diameter = 2e-3
+position = [0.0, 0.0, {z0}]
+velocity = {velocity:?}
+"#
+    ))
+}
+
+#[test]
+fn slow_impact_below_st_c_deposits_and_the_bead_rests_without_drift() {
+    // Starting 10 µm above the floor at rest: reaches ~1 cm/s, St ≈ 6.6 < 10.
+    let mut sim = bead_scene([0.0; 3], 1.01e-3, "", "").simulation();
+    let events = common::run_collect(&mut sim, 0.1);
+    assert_eq!(events.len(), 1, "{events:#?}");
+    assert_eq!(events[0].outcome, Outcome::Deposited);
+    assert!(events[0].st < 10.0);
+    let rest = sim.particles.pos[0];
+    sim.advance_to(1.0);
+    assert_eq!(sim.particles.state[0], State::Resting);
+    assert!(
+        (sim.particles.pos[0] - rest).length() < 1e-15,
+        "drifted to {}",
+        sim.particles.pos[0]
+    );
+    assert_eq!(sim.particles.vel[0], DVec3::ZERO);
+}
+
+#[test]
+fn resting_bead_slides_with_the_flow_and_stays_on_the_floor() {
+    let flow = r#"flow = { type = "uniform", velocity = [0.01, 0.0, 0.0] }"#;
+    let mut sim = bead_scene([0.01, 0.0, 0.0], 1.01e-3, "", flow).simulation();
+    sim.advance_to(1.0);
+    assert_eq!(sim.particles.state[0], State::Resting);
+    let (x, v) = (sim.particles.pos[0], sim.particles.vel[0]);
+    assert!((x.z - 1e-3).abs() < 1e-15, "z = {}", x.z);
+    assert!((v.x - 0.01).abs() < 1e-6 && v.z == 0.0, "v = {v}");
+}
+
+#[test]
+fn resting_bead_leaves_when_the_net_force_points_away() {
+    // Gravity reversed after deposit: an upward flow pulls it off. Simulated with a strong
+    // upward uniform flow: drag points away from the floor, so the bead leaves at once.
+    let flow = r#"flow = { type = "uniform", velocity = [0.0, 0.0, 0.5] }"#;
+    let mut sim = bead_scene([0.0; 3], 1.0e-3, "", flow).simulation();
+    sim.particles.state[0] = State::Resting;
+    sim.particles.wall[0] = 0;
+    sim.advance_to(0.01);
+    assert_eq!(sim.particles.state[0], State::Free);
+    assert!(sim.particles.pos[0].z > 1.0e-3);
+}
+
+#[test]
+fn fast_impact_rebounds_with_eps_and_tangential_restitution() {
+    // 0.5 m/s down and 0.2 m/s along x, starting just above the floor, e_t = 0.5.
+    let mut sim = bead_scene(
+        [0.2, 0.0, -0.5],
+        1.05e-3,
+        "[bounce]\ntangential_restitution = 0.5",
+        "",
+    )
+    .simulation();
+    let mut events = Vec::new();
+    while events.is_empty() {
+        sim.step(1e-5);
+        events.append(&mut sim.events);
+    }
+    let e = events[0];
+    assert_eq!(e.outcome, Outcome::Bounced);
+    let expected_eps = 0.95 * (-35.0 / e.st).exp();
+    assert!((e.eps - expected_eps).abs() < 1e-15);
+    // Right after: v_z = ε V∞ (up to the drag and gravity of a fraction of a 10 µs step).
+    let v = sim.particles.vel[0];
+    assert!(
+        (v.z - e.eps * e.normal_speed).abs() < 1e-3 * e.normal_speed,
+        "v = {v}, e = {e:?}"
+    );
+    assert!((v.x - 0.5 * 0.2).abs() < 2e-3, "v = {v}");
+}
+
+#[test]
+fn bead_inside_a_cylinder_grazing_at_89_degrees_stays_inside() {
+    // In vacuum at 1 m/s, 89° from the wall normal: radial speed 1.75 cm/s, first impact at
+    // 1.38 s, the next at 4.1 s.
+    let scene = common::scene(
+        r#"
+[simulation]
+dt = 1e-3
+duration = 1.0
+output_interval = 0.01
+[fluid]
+density = 0.0
+viscosity = 0.0
+gravity = [0.0, 0.0, 0.0]
+[effects]
+[[kinds]]
+name = "steel"
+type = "solid"
+density = 7800.0
+youngs_modulus = 2e11
+poisson_ratio = 0.3
+[[walls]]
+name = "column"
+type = "cylinder"
+base = [0.0, 0.0, -1.0]
+radius = 0.025
+length = 10.0
+[[particles]]
+kind = "steel"
+diameter = 2e-3
+position = [0.0, 0.0, 0.0]
+velocity = [0.0174524, 0.0, 0.9998477]
+"#,
+    );
+    let mut sim = scene.simulation();
+    let events = common::run_collect(&mut sim, 5.0);
+    assert_eq!(events.len(), 2);
+    for e in &events {
+        assert_eq!(e.outcome, Outcome::Bounced);
+    }
+    let x = sim.particles.pos[0];
+    assert!(x.truncate().length() <= 0.024 + 1e-12, "outside: {x}");
+    // Vacuum, ε_max = 1: speed kept.
+    assert!((sim.particles.vel[0].length() - 1.0).abs() < 1e-6);
+}
