@@ -17,10 +17,7 @@ fn dilute_step(c: &mut Criterion) {
     let mut group = c.benchmark_group("dilute_step");
     group.throughput(Throughput::Elements(base.particles.len() as u64));
     for integrator in ["euler", "rk2", "rk4", "exponential"] {
-        let text = base.source.replace(
-            "integrator = \"euler\"",
-            &format!("integrator = \"{integrator}\""),
-        );
+        let text = base.source.replace("integrator = \"euler\"", &format!("integrator = \"{integrator}\""));
         let s = Scene::from_str(&text, &base.path).expect("variant");
         let mut sim = s.simulation();
         group.bench_with_input(BenchmarkId::from_parameter(integrator), &s.dt, |b, &dt| {
@@ -43,14 +40,7 @@ fn kernels(c: &mut Criterion) {
     });
     c.bench_function("terminal_velocity", |b| {
         b.iter(|| {
-            terminal_velocity(
-                black_box(860.0),
-                997.0,
-                2.75e-3,
-                0.89e-3,
-                9.81,
-                drag_factor_schiller_naumann,
-            )
+            terminal_velocity(black_box(860.0), 997.0, 2.75e-3, 0.89e-3, 9.81, drag_factor_schiller_naumann)
         })
     });
 }

@@ -3,7 +3,7 @@
 use glam::DVec3;
 
 /// What a particle is made of.
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug, Clone, Copy, PartialEq)]
 pub enum Material {
     /// A solid sphere: elastic constants for the Hertz contact time (L06 eq. 3–4).
     Solid {
@@ -110,16 +110,55 @@ impl Particles {
         self.len() - 1
     }
 
-    /// Removes particle `i` by moving the last particle into its place (order is not kept).
-    pub fn swap_remove(&mut self, i: usize) {
-        self.id.swap_remove(i);
-        self.kind.swap_remove(i);
-        self.diameter.swap_remove(i);
-        self.pos.swap_remove(i);
-        self.vel.swap_remove(i);
-        self.state.swap_remove(i);
-        self.wall.swap_remove(i);
-        self.release_time.swap_remove(i);
-        self.release_vel.swap_remove(i);
+    /// Keeps the particles with `keep[i]`, in their order.
+    pub fn retain(&mut self, keep: &[bool]) {
+        fn column<T>(c: &mut Vec<T>, keep: &[bool]) {
+            let mut k = keep.iter();
+            c.retain(|_| *k.next().expect("one flag per particle"));
+        }
+        column(&mut self.id, keep);
+        column(&mut self.kind, keep);
+        column(&mut self.diameter, keep);
+        column(&mut self.pos, keep);
+        column(&mut self.vel, keep);
+        column(&mut self.state, keep);
+        column(&mut self.wall, keep);
+        column(&mut self.release_time, keep);
+        column(&mut self.release_vel, keep);
+    }
+}
+
+/// A lasting contact between particles `a < b` (indices): after an impact below `St_c`
+/// (resting: they may not approach) or during a hold (they move together) **[ext]**.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct PairContact {
+    /// Lower particle index.
+    pub a: u32,
+    /// Higher particle index.
+    pub b: u32,
+    /// `Some` during a hold.
+    pub hold: Option<PairHold>,
+}
+
+/// The release of a held pair.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct PairHold {
+    /// When the hold ends (s).
+    pub release_time: f64,
+    /// Relative normal speed at release `ε Vn` (m/s), separating.
+    pub normal_speed: f64,
+    /// Relative tangential velocity `v_a − v_b` at release, `e_t` times that at impact (m/s).
+    pub tangential: DVec3,
+}
+
+impl PairContact {
+    /// A resting contact.
+    pub fn resting(a: u32, b: u32) -> Self {
+        PairContact { a, b, hold: None }
+    }
+
+    /// A hold until `release_time`.
+    pub fn held(a: u32, b: u32, release_time: f64, normal_speed: f64, tangential: DVec3) -> Self {
+        PairContact { a, b, hold: Some(PairHold { release_time, normal_speed, tangential }) }
     }
 }

@@ -18,8 +18,7 @@ fn tau() -> f64 {
 
 fn exact(t: f64) -> (DVec3, DVec3) {
     let tau = tau();
-    let vt =
-        DVec3::new(0.0, 0.0, -(RHO_P - RHO) * 9.81 / (RHO_P + 0.5 * RHO)) * tau + DVec3::from(U);
+    let vt = DVec3::new(0.0, 0.0, -(RHO_P - RHO) * 9.81 / (RHO_P + 0.5 * RHO)) * tau + DVec3::from(U);
     let decay = (-t / tau).exp();
     (vt * (t - tau * (1.0 - decay)), vt * (1.0 - decay))
 }
@@ -57,8 +56,7 @@ position = [0.0, 0.0, 0.0]
     let mut sim = common::scene(&text).simulation();
     sim.advance_to(T_END);
     let (x, v) = exact(T_END);
-    (sim.particles.pos[0] - x).length() / x.length()
-        + (sim.particles.vel[0] - v).length() / v.length()
+    (sim.particles.pos[0] - x).length() / x.length() + (sim.particles.vel[0] - v).length() / v.length()
 }
 
 fn observed_order(integrator: &str, dt: f64) -> f64 {

@@ -56,11 +56,7 @@ fn ball_in_vacuum_with_eps_1_keeps_its_bounce_height_over_10_bounces() {
         for e in events {
             assert_eq!(e.outcome, Outcome::Bounced);
             assert_eq!(e.st, f64::INFINITY, "vacuum: St = ∞, ε = ε_max");
-            assert!(
-                (e.normal_speed - v0).abs() / v0 < 1e-9,
-                "impact speed {} vs {v0}",
-                e.normal_speed
-            );
+            assert!((e.normal_speed - v0).abs() / v0 < 1e-9, "impact speed {} vs {v0}", e.normal_speed);
             bounces += 1;
             // Apex of the next flight: z = H0 + R exactly.
             let apex = e.time + v0 / G;
@@ -70,17 +66,10 @@ fn ball_in_vacuum_with_eps_1_keeps_its_bounce_height_over_10_bounces() {
             if apex > probe.time {
                 probe.advance_to(apex);
                 let h = probe.particles.pos[0].z - R;
-                assert!(
-                    (h - H0).abs() / H0 < 1e-6,
-                    "bounce {bounces}: apex height {h}"
-                );
+                assert!((h - H0).abs() / H0 < 1e-6, "bounce {bounces}: apex height {h}");
             }
         }
-        assert!(
-            sim.particles.pos[0].z >= R * (1.0 - 1e-12),
-            "below the floor: {}",
-            sim.particles.pos[0].z
-        );
+        assert!(sim.particles.pos[0].z >= R * (1.0 - 1e-12), "below the floor: {}", sim.particles.pos[0].z);
     }
 }
 
@@ -92,11 +81,7 @@ fn impact_times_are_exact_inside_the_step() {
     let t1 = (2.0 * H0 / G).sqrt();
     for (k, e) in events.iter().enumerate() {
         let expected = t1 * (1.0 + 2.0 * k as f64);
-        assert!(
-            (e.time - expected).abs() < 1e-12,
-            "impact {k}: {} vs {expected}",
-            e.time
-        );
+        assert!((e.time - expected).abs() < 1e-12, "impact {k}: {} vs {expected}", e.time);
     }
     assert!(events.len() >= 3);
 }

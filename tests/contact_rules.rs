@@ -55,11 +55,7 @@ fn slow_impact_below_st_c_deposits_and_the_bead_rests_without_drift() {
     let rest = sim.particles.pos[0];
     sim.advance_to(1.0);
     assert_eq!(sim.particles.state[0], State::Resting);
-    assert!(
-        (sim.particles.pos[0] - rest).length() < 1e-15,
-        "drifted to {}",
-        sim.particles.pos[0]
-    );
+    assert!((sim.particles.pos[0] - rest).length() < 1e-15, "drifted to {}", sim.particles.pos[0]);
     assert_eq!(sim.particles.vel[0], DVec3::ZERO);
 }
 
@@ -90,13 +86,8 @@ fn resting_bead_leaves_when_the_net_force_points_away() {
 #[test]
 fn fast_impact_rebounds_with_eps_and_tangential_restitution() {
     // 0.5 m/s down and 0.2 m/s along x, starting just above the floor, e_t = 0.5.
-    let mut sim = bead_scene(
-        [0.2, 0.0, -0.5],
-        1.05e-3,
-        "[bounce]\ntangential_restitution = 0.5",
-        "",
-    )
-    .simulation();
+    let mut sim =
+        bead_scene([0.2, 0.0, -0.5], 1.05e-3, "[bounce]\ntangential_restitution = 0.5", "").simulation();
     let mut events = Vec::new();
     while events.is_empty() {
         sim.step(1e-5);
@@ -108,10 +99,7 @@ fn fast_impact_rebounds_with_eps_and_tangential_restitution() {
     assert!((e.eps - expected_eps).abs() < 1e-15);
     // Right after: v_z = ε V∞ (up to the drag and gravity of a fraction of a 10 µs step).
     let v = sim.particles.vel[0];
-    assert!(
-        (v.z - e.eps * e.normal_speed).abs() < 1e-3 * e.normal_speed,
-        "v = {v}, e = {e:?}"
-    );
+    assert!((v.z - e.eps * e.normal_speed).abs() < 1e-3 * e.normal_speed, "v = {v}, e = {e:?}");
     assert!((v.x - 0.5 * 0.2).abs() < 2e-3, "v = {v}");
 }
 

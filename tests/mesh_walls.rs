@@ -9,11 +9,7 @@ use wetbounce::pipeline::Outcome;
 use wetbounce::{Other, Scene, Simulation};
 
 /// The plate in its three formats, relative to `scenes/`.
-const PLATE_FILES: [&str; 3] = [
-    "meshes/plate_ascii.stl",
-    "meshes/plate_binary.stl",
-    "meshes/plate.obj",
-];
+const PLATE_FILES: [&str; 3] = ["meshes/plate_ascii.stl", "meshes/plate_binary.stl", "meshes/plate.obj"];
 
 /// Half-width and thickness of the plate (m).
 const HALF_WIDTH: f64 = 0.02;
@@ -107,26 +103,20 @@ fn run_steps(sim: &mut Simulation, dt: f64, steps: usize) -> f64 {
 fn plate_loads_with_12_triangles_from_ascii_stl_binary_stl_and_obj() {
     for file in PLATE_FILES {
         let path = scenes_dir().join(file);
-        let mesh = wetbounce::walls::load_mesh(&path, 1.0, DVec3::ZERO)
-            .unwrap_or_else(|e| panic!("{file}: {e}"));
+        let mesh =
+            wetbounce::walls::load_mesh(&path, 1.0, DVec3::ZERO).unwrap_or_else(|e| panic!("{file}: {e}"));
         assert_eq!(mesh.mesh.num_triangles(), 12, "{file}");
         // The files hold f32 coordinates: 0.02 is off by ~5e-10.
         let aabb = mesh.mesh.local_aabb();
-        let (lo, hi) = (
-            DVec3::new(-HALF_WIDTH, -HALF_WIDTH, -THICKNESS),
-            DVec3::new(HALF_WIDTH, HALF_WIDTH, 0.0),
-        );
+        let (lo, hi) =
+            (DVec3::new(-HALF_WIDTH, -HALF_WIDTH, -THICKNESS), DVec3::new(HALF_WIDTH, HALF_WIDTH, 0.0));
         assert!(
-            (aabb.mins - lo).abs().max_element() < 1e-8
-                && (aabb.maxs - hi).abs().max_element() < 1e-8,
+            (aabb.mins - lo).abs().max_element() < 1e-8 && (aabb.maxs - hi).abs().max_element() < 1e-8,
             "{file}: bounding box {:?} .. {:?}",
             aabb.mins,
             aabb.maxs
         );
-        assert_eq!(
-            aabb.maxs.z, 0.0,
-            "{file}: the top face must be exactly at z = 0"
-        );
+        assert_eq!(aabb.maxs.z, 0.0, "{file}: the top face must be exactly at z = 0");
     }
 }
 
@@ -139,18 +129,12 @@ fn drop_on(wall: &str, xy: [f64; 2], what: &str) -> f64 {
     let mut sim = scene.simulation();
     // Impact at ~45 ms, back at the top at ~90 ms, second impact at ~135 ms.
     let lowest = run_steps(&mut sim, dt, 1200);
-    assert!(
-        lowest >= R * (1.0 - 1e-9),
-        "{what}: the bead went down to z = {lowest}, below its radius {R}"
-    );
+    assert!(lowest >= R * (1.0 - 1e-9), "{what}: the bead went down to z = {lowest}, below its radius {R}");
     assert_eq!(sim.events.len(), 1, "{what}: {:?}", sim.events);
     let e = sim.events[0];
     assert_eq!(e.other, Other::Wall(0), "{what}");
     assert_eq!(e.outcome, Outcome::Bounced, "{what}: {e:?}");
-    assert!(
-        (e.eps - 1.0).abs() < 1e-12,
-        "{what}: vacuum gives eps_max: {e:?}"
-    );
+    assert!((e.eps - 1.0).abs() < 1e-12, "{what}: vacuum gives eps_max: {e:?}");
     // Elastic bounce straight up: at 0.12 s the bead is where the mirrored parabola puts it.
     let (g, t1, t) = (9.81, e.time, sim.time);
     let z = R + g * t1 * (t - t1) - 0.5 * g * (t - t1) * (t - t1);
@@ -193,10 +177,7 @@ fn fast_bead_stays_above(wall: &str, xy: [f64; 2], what: &str) {
     for k in 1..=5 {
         sim.advance_to(k as f64 * dt);
         let z = sim.particles.pos[0].z;
-        assert!(
-            z > 0.0,
-            "{what}: after step {k} the bead is at z = {z}, inside or below the plate"
-        );
+        assert!(z > 0.0, "{what}: after step {k} the bead is at z = {z}, inside or below the plate");
         lowest = lowest.min(z);
     }
     assert!(lowest >= R * (1.0 - 1e-9), "{what}: lowest z = {lowest}");
@@ -205,16 +186,9 @@ fn fast_bead_stays_above(wall: &str, xy: [f64; 2], what: &str) {
     assert_eq!(e.other, Other::Wall(0), "{what}");
     assert_eq!(e.outcome, Outcome::Bounced, "{what}: {e:?}");
     let t_hit = DROP_GAP / 10.0;
-    assert!(
-        (e.time - t_hit).abs() < 1e-12,
-        "{what}: impact at {} s, expected {t_hit} s",
-        e.time
-    );
+    assert!((e.time - t_hit).abs() < 1e-12, "{what}: impact at {} s, expected {t_hit} s", e.time);
     let v = sim.particles.vel[0];
-    assert!(
-        (v - DVec3::new(0.0, 0.0, 10.0)).length() < 1e-9,
-        "{what}: velocity after the bounce {v}"
-    );
+    assert!((v - DVec3::new(0.0, 0.0, 10.0)).length() < 1e-9, "{what}: velocity after the bounce {v}");
 }
 
 #[test]

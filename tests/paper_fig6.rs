@@ -18,27 +18,12 @@ fn first_impact_has_st_38_eps_from_eq2_and_eq5_contact_time() {
     // St = 38 (L06 Fig. 6), tolerance 3 %.
     assert!((first.st - 38.0).abs() / 38.0 < 0.03, "St = {}", first.st);
     // V∞ is the terminal velocity: released 27.5 mm away, ~4 t_r of travel. Tolerance 0.5 %.
-    let vt = terminal_velocity(
-        860.0,
-        997.0,
-        2.75e-3,
-        0.89e-3,
-        9.81,
-        drag_factor_schiller_naumann,
-    )
-    .speed;
-    assert!(
-        (first.normal_speed - vt).abs() / vt < 5e-3,
-        "V∞ = {} vs V_t = {vt}",
-        first.normal_speed
-    );
+    let vt = terminal_velocity(860.0, 997.0, 2.75e-3, 0.89e-3, 9.81, drag_factor_schiller_naumann).speed;
+    assert!((first.normal_speed - vt).abs() / vt < 5e-3, "V∞ = {} vs V_t = {vt}", first.normal_speed);
     // ε = ε_max exp(−35/St), ε_max = 0.91: exactly the correlation.
     assert!((first.eps - 0.91 * (-35.0 / first.st).exp()).abs() < 1e-15);
     // t_c from eq. 5, independent of the speed.
-    assert_eq!(
-        first.contact_time,
-        drop_contact_time(860.0, 997.0, 2.75e-3, 0.026)
-    );
+    assert_eq!(first.contact_time, drop_contact_time(860.0, 997.0, 2.75e-3, 0.026));
     assert_eq!(first.outcome, Outcome::Held);
 }
 
@@ -76,11 +61,7 @@ fn second_impact_with_eps_max_0_91_st_c_10_in_water_at_25c_is_held_again() {
     let events = events_with_dt(1e-4);
     assert!(events.len() >= 3, "{events:?}");
     assert_eq!(events[1].outcome, Outcome::Held);
-    assert!(
-        events[1].st > 10.0 && events[1].st < 15.0,
-        "St2 = {}",
-        events[1].st
-    );
+    assert!(events[1].st > 10.0 && events[1].st < 15.0, "St2 = {}", events[1].st);
     assert_eq!(events[2].outcome, Outcome::Deposited);
     assert!(events[2].st < 10.0);
 }
@@ -94,10 +75,7 @@ fn impact_times_converge_at_second_order_as_dt_shrinks() {
         .iter()
         .map(|&dt| {
             let e = events_with_dt(dt);
-            (
-                (e[0].time - reference[0].time).abs(),
-                (e[1].time - reference[1].time).abs(),
-            )
+            ((e[0].time - reference[0].time).abs(), (e[1].time - reference[1].time).abs())
         })
         .collect();
     for w in errors.windows(2) {

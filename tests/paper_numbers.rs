@@ -35,10 +35,7 @@ fn restitution_correlation_is_eps_max_exp_minus_35_over_st() {
 fn no_rebound_below_critical_stokes_number_10() {
     // L06 §4: St_c ≈ 10–15; the engine's default is 10 (PHYSICS.md §3).
     assert_eq!(restitution(9.99, 0.91, 35.0, 10.0), Restitution::NoRebound);
-    assert!(matches!(
-        restitution(17.0, 0.91, 35.0, 10.0),
-        Restitution::Rebound(_)
-    ));
+    assert!(matches!(restitution(17.0, 0.91, 35.0, 10.0), Restitution::Rebound(_)));
 }
 
 #[test]
@@ -131,13 +128,9 @@ fn millimetric_toluene_drop_holds_three_orders_longer_than_a_solid_sphere() {
     let drop = drop_contact_time(TOLUENE_RHO, WATER_25C.0, d, TOLUENE_SIGMA);
     let (tv, st) = terminal_stokes(2540.0, WATER_20C, d);
     let solid =
-        immersed_solid_contact_time(2540.0, WATER_20C.0, 63e9, 0.22, 63e9, 0.22, d, tv.speed, st)
-            .unwrap();
+        immersed_solid_contact_time(2540.0, WATER_20C.0, 63e9, 0.22, 63e9, 0.22, d, tv.speed, st).unwrap();
     let ratio = drop / solid;
-    assert!(
-        (1e2..1e4).contains(&ratio),
-        "t_c drop {drop:e}, solid {solid:e}, ratio {ratio:e}"
-    );
+    assert!((1e2..1e4).contains(&ratio), "t_c drop {drop:e}, solid {solid:e}, ratio {ratio:e}");
     assert!((10e-3..40e-3).contains(&drop));
 }
 

@@ -31,17 +31,11 @@ fn bad_scenes() -> Vec<(PathBuf, Vec<String>)> {
         .filter(|p| p.extension().is_some_and(|e| e == "toml"))
         .collect();
     paths.sort();
-    assert!(
-        paths.len() >= MIN_BAD_SCENES,
-        "only {} bad scenes in {}",
-        paths.len(),
-        bad_dir().display()
-    );
+    assert!(paths.len() >= MIN_BAD_SCENES, "only {} bad scenes in {}", paths.len(), bad_dir().display());
     paths
         .into_iter()
         .map(|path| {
-            let text = std::fs::read_to_string(&path)
-                .unwrap_or_else(|e| panic!("{}: {e}", path.display()));
+            let text = std::fs::read_to_string(&path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
             let expected: Vec<String> = text
                 .lines()
                 .map_while(|l| l.strip_prefix(EXPECT))
@@ -91,9 +85,7 @@ fn every_bad_scene_fails_to_load_with_a_message_naming_the_file_the_key_and_the_
         };
         let shown = path.display().to_string();
         if !err.contains(&shown) {
-            failures.push(format!(
-                "{name}: the message does not name the file:\n  {err}"
-            ));
+            failures.push(format!("{name}: the message does not name the file:\n  {err}"));
         }
         for e in expected {
             if !err.contains(e.as_str()) {
@@ -103,11 +95,7 @@ fn every_bad_scene_fails_to_load_with_a_message_naming_the_file_the_key_and_the_
             }
         }
     }
-    report(
-        "do not fail as their `# expect:` lines say",
-        failures,
-        scenes.len(),
-    );
+    report("do not fail as their `# expect:` lines say", failures, scenes.len());
 }
 
 #[test]
@@ -124,23 +112,17 @@ fn check_command_rejects_every_bad_scene_with_an_error_line_on_stderr_and_no_pan
         let stderr = String::from_utf8_lossy(&out.stderr);
         let stdout = String::from_utf8_lossy(&out.stdout);
         if out.status.success() {
-            failures.push(format!(
-                "{name}: `wetbounce check` exited with success\n  stdout: {stdout}"
-            ));
+            failures.push(format!("{name}: `wetbounce check` exited with success\n  stdout: {stdout}"));
         }
         if stderr.contains("panicked") {
             failures.push(format!("{name}: `wetbounce check` panicked:\n{stderr}"));
             continue;
         }
         if !stderr.starts_with("error: ") {
-            failures.push(format!(
-                "{name}: stderr does not start with `error: `:\n  {stderr}"
-            ));
+            failures.push(format!("{name}: stderr does not start with `error: `:\n  {stderr}"));
         }
         if !stderr.contains(&path.display().to_string()) {
-            failures.push(format!(
-                "{name}: stderr does not name the file:\n  {stderr}"
-            ));
+            failures.push(format!("{name}: stderr does not name the file:\n  {stderr}"));
         }
         for e in expected {
             if !stderr.contains(e.as_str()) {
@@ -150,11 +132,7 @@ fn check_command_rejects_every_bad_scene_with_an_error_line_on_stderr_and_no_pan
             }
         }
     }
-    report(
-        "are not rejected by `wetbounce check` as expected",
-        failures,
-        scenes.len(),
-    );
+    report("are not rejected by `wetbounce check` as expected", failures, scenes.len());
 }
 
 #[test]
@@ -193,15 +171,9 @@ fn bad_scene_fixtures_cover_every_error_kind() {
         "particle_outside_box_container",
         "toml_syntax_error",
     ];
-    let present: Vec<String> = bad_scenes()
-        .iter()
-        .map(|(p, _)| p.file_stem().unwrap().to_string_lossy().into_owned())
-        .collect();
-    let missing: Vec<&str> = required
-        .iter()
-        .copied()
-        .filter(|r| !present.iter().any(|p| p == r))
-        .collect();
+    let present: Vec<String> =
+        bad_scenes().iter().map(|(p, _)| p.file_stem().unwrap().to_string_lossy().into_owned()).collect();
+    let missing: Vec<&str> = required.iter().copied().filter(|r| !present.iter().any(|p| p == r)).collect();
     assert!(missing.is_empty(), "no bad scene for: {missing:?}");
 }
 
@@ -217,14 +189,6 @@ fn valid_example_scene_loads_and_checks_cleanly() {
         .arg(&path)
         .output()
         .expect("the wetbounce binary runs");
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    assert!(
-        out.stderr.is_empty(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    assert!(out.stderr.is_empty(), "{}", String::from_utf8_lossy(&out.stderr));
 }

@@ -15,12 +15,7 @@ fn every_shipped_scene_loads_and_runs_briefly() {
             let mut sim = scene.simulation();
             let t = 0.05f64.min(scene.duration).min(500.0 * scene.dt);
             sim.advance_to(t);
-            assert!(
-                sim.lost.is_empty(),
-                "{}: lost {:?}",
-                path.display(),
-                sim.lost
-            );
+            assert!(sim.lost.is_empty(), "{}: lost {:?}", path.display(), sim.lost);
             count += 1;
         }
     }
@@ -29,8 +24,7 @@ fn every_shipped_scene_loads_and_runs_briefly() {
 
 #[test]
 fn glass_bead_rebounds_with_falling_st_then_stays_on_the_floor() {
-    let scene =
-        Scene::load(Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/glass_bead.toml")).unwrap();
+    let scene = Scene::load(Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/glass_bead.toml")).unwrap();
     let mut sim = scene.simulation();
     let events = common::run_collect(&mut sim, scene.duration);
     let first = events[0];
@@ -38,17 +32,8 @@ fn glass_bead_rebounds_with_falling_st_then_stays_on_the_floor() {
     for w in events.windows(2) {
         assert!(w[1].st < w[0].st, "St must fall from bounce to bounce");
     }
-    assert_eq!(
-        events.last().unwrap().outcome,
-        wetbounce::Outcome::Deposited
-    );
-    assert!(
-        events
-            .iter()
-            .rev()
-            .skip(1)
-            .all(|e| e.outcome == wetbounce::Outcome::Bounced)
-    );
+    assert_eq!(events.last().unwrap().outcome, wetbounce::Outcome::Deposited);
+    assert!(events.iter().rev().skip(1).all(|e| e.outcome == wetbounce::Outcome::Bounced));
     // On the floor at the end, touching it.
     assert!((sim.particles.pos[0].z - 1.25e-3).abs() < 1e-12);
 }

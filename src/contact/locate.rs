@@ -1,10 +1,10 @@
 //! Time of impact on the curved path inside a step.
 
 use crate::walls::Crossing;
-use glam::DVec3;
 
-/// Finds the first time `s ∈ [0, h]` at which a particle following `path(s) = (x, v)` reaches
-/// gap 0 with a wall, given the chord test's `crossing` and the gap `end_gap` at `s = h`.
+/// Finds the first time `s ∈ [0, h]` at which the gap `g(s)` between a particle on its curved
+/// path and a wall (or another particle) reaches 0, given the chord test's `crossing` and the
+/// gap `end_gap` at `s = h`.
 ///
 /// The chord `x(0) → x(h)` only detects the contact (a thin wall is caught however fast the
 /// particle moves); the time is then found on the integrator's own path, so that it is as
@@ -14,14 +14,12 @@ use glam::DVec3;
 /// through — and refined by the Illinois variant of regula falsi. `None` when the curved path
 /// does not actually reach the wall (the chord grazed a corner the path avoids).
 pub fn locate_on_path(
-    path: impl Fn(f64) -> (DVec3, DVec3),
-    gap: impl Fn(DVec3) -> f64,
+    g: impl Fn(f64) -> f64,
     h: f64,
     crossing: Crossing,
     end_gap: f64,
     length_scale: f64,
 ) -> Option<f64> {
-    let g = |s: f64| gap(path(s).0);
     let (mut sb, mut gb) = if end_gap < 0.0 {
         (h, end_gap)
     } else {
@@ -80,27 +78,19 @@ pub fn locate_on_path(
 #[cfg(test)]
 mod tests {
     use super::*;
+    use glam::DVec3;
 
     #[test]
     fn finds_parabola_impact_to_round_off() {
         // Free fall from z = 1 at 0 speed, floor gap = z − 0.1: impact at sqrt(2·0.9/g).
         let g = 9.81;
-        let path = |s: f64| {
-            (
-                DVec3::new(0.0, 0.0, 1.0 - 0.5 * g * s * s),
-                DVec3::new(0.0, 0.0, -g * s),
-            )
-        };
+        let path = |s: f64| (DVec3::new(0.0, 0.0, 1.0 - 0.5 * g * s * s), DVec3::new(0.0, 0.0, -g * s));
         let gap = |x: DVec3| x.z - 0.1;
         let h = 1.0;
         let s = locate_on_path(
-            path,
-            gap,
+            |s| gap(path(s).0),
             h,
-            Crossing {
-                enter: 0.9 / 4.905,
-                exit: 1.0,
-            },
+            Crossing { enter: 0.9 / 4.905, exit: 1.0 },
             gap(path(h).0),
             0.1,
         )
@@ -113,21 +103,12 @@ mod tests {
     fn finds_return_after_weak_rebound_not_the_departure() {
         // Leaves the floor at 0.01 m/s against gravity: back at s = 2·0.01/g.
         let g = 9.81;
-        let path = |s: f64| {
-            (
-                DVec3::new(0.0, 0.0, 0.01 * s - 0.5 * g * s * s),
-                DVec3::ZERO,
-            )
-        };
+        let path = |s: f64| (DVec3::new(0.0, 0.0, 0.01 * s - 0.5 * g * s * s), DVec3::ZERO);
         let gap = |x: DVec3| x.z;
         let s = locate_on_path(
-            path,
-            gap,
+            |s| gap(path(s).0),
             0.1,
-            Crossing {
-                enter: 0.0,
-                exit: 1.0,
-            },
+            Crossing { enter: 0.0, exit: 1.0 },
             gap(path(0.1).0),
             1.0,
         )

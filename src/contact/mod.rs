@@ -3,10 +3,13 @@
 //! - [`locate`]: the time of impact on the particle's curved path inside the step, from the
 //!   chord test of [`crate::walls::Surface::sweep`];
 //! - [`response`]: the bounce rule of PHYSICS.md §5 (L06 §4) — Stokes number once per contact,
-//!   restitution, contact time, and the outcome: held, bounced or deposited.
+//!   restitution, contact time, and the outcome: held, bounced or deposited;
+//! - [`pair`]: the same rule on the relative motion of two particles **[ext]**.
 
 mod locate;
+mod pair;
 mod response;
 
 pub use locate::locate_on_path;
+pub use pair::{PairBody, PairImpact, pair_impact};
 pub use response::{BounceRule, Impact, wall_impact};

@@ -24,12 +24,7 @@ pub struct BounceRule {
 
 impl Default for BounceRule {
     fn default() -> Self {
-        BounceRule {
-            beta: 35.0,
-            st_critical: 10.0,
-            tangential_restitution: 1.0,
-            hold_at_contact: false,
-        }
+        BounceRule { beta: 35.0, st_critical: 10.0, tangential_restitution: 1.0, hold_at_contact: false }
     }
 }
 
@@ -69,44 +64,26 @@ pub fn wall_impact(
     let st = stokes_number(kind.density, fluid.density, v_inf, d, fluid.viscosity);
     let eps_max = material.restitution_max.unwrap_or(kind.restitution_max);
     match restitution(st, eps_max, rule.beta, rule.st_critical) {
-        Restitution::NoRebound => Impact {
-            st,
-            eps: 0.0,
-            contact_time: 0.0,
-            outcome: Outcome::Deposited,
-            velocity: tangential,
-        },
+        Restitution::NoRebound => {
+            Impact { st, eps: 0.0, contact_time: 0.0, outcome: Outcome::Deposited, velocity: tangential }
+        }
         Restitution::Rebound(eps) => Impact {
             st,
             eps,
             contact_time: contact_time(kind, d, material, fluid, v_inf, st),
-            outcome: if rule.hold_at_contact {
-                Outcome::Held
-            } else {
-                Outcome::Bounced
-            },
+            outcome: if rule.hold_at_contact { Outcome::Held } else { Outcome::Bounced },
             velocity: eps * v_inf * n + rule.tangential_restitution * tangential,
         },
     }
 }
 
 /// L06 eq. 5 for drops, eq. 4 for solids; a wall with no elastic constants is rigid.
-fn contact_time(
-    kind: &ParticleKind,
-    d: f64,
-    wall: &WallMaterial,
-    fluid: &Fluid,
-    v_imp: f64,
-    st: f64,
-) -> f64 {
+fn contact_time(kind: &ParticleKind, d: f64, wall: &WallMaterial, fluid: &Fluid, v_imp: f64, st: f64) -> f64 {
     match kind.material {
         Material::Drop { surface_tension } => {
             drop_contact_time(kind.density, fluid.density, d, surface_tension)
         }
-        Material::Solid {
-            youngs_modulus,
-            poisson_ratio,
-        } => immersed_solid_contact_time(
+        Material::Solid { youngs_modulus, poisson_ratio } => immersed_solid_contact_time(
             kind.density,
             fluid.density,
             youngs_modulus,

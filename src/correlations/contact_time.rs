@@ -11,15 +11,7 @@ use std::f64::consts::PI;
 /// `rho_p` particle density (kg/m³), `e_p, nu_p` and `e_w, nu_w` Young's modulus (Pa) and
 /// Poisson ratio of particle and wall, `d` diameter (m), `v_imp` impact speed (m/s).
 /// Elastic, quasi-static impacts (speeds far below the elastic wave speed). `v_imp = 0` gives +∞.
-pub fn hertz_contact_time(
-    rho_p: f64,
-    e_p: f64,
-    nu_p: f64,
-    e_w: f64,
-    nu_w: f64,
-    d: f64,
-    v_imp: f64,
-) -> f64 {
+pub fn hertz_contact_time(rho_p: f64, e_p: f64, nu_p: f64, e_w: f64, nu_w: f64, d: f64, v_imp: f64) -> f64 {
     let compliance = (1.0 - nu_p * nu_p) / e_p + (1.0 - nu_w * nu_w) / e_w;
     2.54 * rho_p.powf(0.4) * compliance.powf(0.4) * d * v_imp.powf(-0.2)
 }

@@ -22,11 +22,7 @@ pub const NEWTON_DRAG_COEFFICIENT: f64 = 0.44;
 /// `C_D = 24 f / Re` is held at 0.44 (Newton regime), i.e. `f = 0.44 Re / 24`; the two
 /// branches meet within 0.5 % at Re = 1000.
 pub fn drag_factor_schiller_naumann(re: f64) -> f64 {
-    if re <= NEWTON_REYNOLDS {
-        1.0 + 0.15 * re.powf(0.687)
-    } else {
-        NEWTON_DRAG_COEFFICIENT * re / 24.0
-    }
+    if re <= NEWTON_REYNOLDS { 1.0 + 0.15 * re.powf(0.687) } else { NEWTON_DRAG_COEFFICIENT * re / 24.0 }
 }
 
 #[cfg(test)]

@@ -26,11 +26,7 @@ impl Restitution {
 /// air, `beta` = 35 in L06. Fitted to drops and solid spheres in air and in liquids over
 /// 10 ≲ St ≲ 10⁴; `St = ∞` (vacuum) gives `ε_max`.
 pub fn restitution(st: f64, eps_max: f64, beta: f64, st_critical: f64) -> Restitution {
-    if st < st_critical {
-        Restitution::NoRebound
-    } else {
-        Restitution::Rebound(eps_max * (-beta / st).exp())
-    }
+    if st < st_critical { Restitution::NoRebound } else { Restitution::Rebound(eps_max * (-beta / st).exp()) }
 }
 
 #[cfg(test)]
@@ -40,10 +36,7 @@ mod tests {
     #[test]
     fn st_exactly_at_critical_rebounds() {
         // PHYSICS.md §5: "St < St_c: no rebound", so St = St_c rebounds.
-        assert!(matches!(
-            restitution(10.0, 1.0, 35.0, 10.0),
-            Restitution::Rebound(_)
-        ));
+        assert!(matches!(restitution(10.0, 1.0, 35.0, 10.0), Restitution::Rebound(_)));
         assert_eq!(restitution(9.999, 1.0, 35.0, 10.0), Restitution::NoRebound);
     }
 

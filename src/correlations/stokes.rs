@@ -22,11 +22,7 @@ pub fn pair_stokes_number(m1: f64, m2: f64, a1: f64, a2: f64, vn: f64, mu: f64) 
     let m_red = reduce(m1, m2);
     let a_red = reduce(a1, a2);
     let num = m_red * vn;
-    if num == 0.0 {
-        0.0
-    } else {
-        num / (6.0 * std::f64::consts::PI * mu * a_red * a_red)
-    }
+    if num == 0.0 { 0.0 } else { num / (6.0 * std::f64::consts::PI * mu * a_red * a_red) }
 }
 
 /// `x y / (x + y)`, with `y = ∞` giving `x` (a wall in a pair formula).

@@ -33,8 +33,7 @@ pub fn terminal_velocity(
 ) -> TerminalVelocity {
     let weight = sphere_volume(d) * (rho_p - rho).abs() * g;
     let stokes_drag_per_speed = 3.0 * PI * mu * d;
-    let residual =
-        |v: f64| stokes_drag_per_speed * drag_factor(reynolds_number(rho, v, d, mu)) * v - weight;
+    let residual = |v: f64| stokes_drag_per_speed * drag_factor(reynolds_number(rho, v, d, mu)) * v - weight;
     let (mut lo, mut hi) = (0.0_f64, weight / stokes_drag_per_speed);
     if hi.is_finite() && hi > 0.0 {
         // Bisection: ~50 halvings per 15 digits, each a single drag evaluation.
@@ -51,11 +50,7 @@ pub fn terminal_velocity(
         }
     }
     let speed = 0.5 * (lo + hi);
-    TerminalVelocity {
-        speed,
-        reynolds: reynolds_number(rho, speed, d, mu),
-        rising: rho_p < rho,
-    }
+    TerminalVelocity { speed, reynolds: reynolds_number(rho, speed, d, mu), rising: rho_p < rho }
 }
 
 #[cfg(test)]
@@ -79,23 +74,12 @@ mod tests {
         let t = terminal_velocity(rp, r, d, mu, g, drag_factor_schiller_naumann);
         let exact = (4.0 * g * d * (rp - r) / (3.0 * 0.44 * r)).sqrt();
         assert!(t.reynolds > 1000.0);
-        assert!(
-            (t.speed - exact).abs() / exact < 1e-10,
-            "{} vs {exact}",
-            t.speed
-        );
+        assert!((t.speed - exact).abs() / exact < 1e-10, "{} vs {exact}", t.speed);
     }
 
     #[test]
     fn rising_drop_is_flagged_rising() {
-        let t = terminal_velocity(
-            860.0,
-            997.0,
-            2.5e-3,
-            0.89e-3,
-            9.81,
-            drag_factor_schiller_naumann,
-        );
+        let t = terminal_velocity(860.0, 997.0, 2.5e-3, 0.89e-3, 9.81, drag_factor_schiller_naumann);
         assert!(t.rising && t.speed > 0.05 && t.speed < 0.2);
     }
 }

@@ -47,10 +47,7 @@ pub struct EffectError {
 impl EffectError {
     /// An error about `key` of the effect's table.
     pub fn new(key: impl Into<String>, message: impl Into<String>) -> Self {
-        EffectError {
-            key: key.into(),
-            message: message.into(),
-        }
+        EffectError { key: key.into(), message: message.into() }
     }
 }
 
@@ -59,10 +56,7 @@ pub fn build_effect(name: &str, table: toml::Value) -> Result<Box<dyn Effect>, E
     fn parse<T: serde::de::DeserializeOwned>(table: toml::Value) -> Result<T, EffectError> {
         serde_path_to_error::deserialize(table).map_err(|e| {
             let key = e.path().to_string();
-            EffectError::new(
-                if key == "." { String::new() } else { key },
-                e.inner().message(),
-            )
+            EffectError::new(if key == "." { String::new() } else { key }, e.inner().message())
         })
     }
     Ok(match name {
@@ -74,10 +68,7 @@ pub fn build_effect(name: &str, table: toml::Value) -> Result<Box<dyn Effect>, E
         other => {
             return Err(EffectError::new(
                 "",
-                format!(
-                    "unknown effect \"{other}\"; valid effects are: {}",
-                    EFFECT_NAMES.join(", ")
-                ),
+                format!("unknown effect \"{other}\"; valid effects are: {}", EFFECT_NAMES.join(", ")),
             ));
         }
     })
@@ -114,10 +105,7 @@ impl Physics {
         let mut physics = Physics {
             kinds: kinds
                 .iter()
-                .map(|k| KindTerms {
-                    inertia_density: k.density,
-                    force_density: DVec3::ZERO,
-                })
+                .map(|k| KindTerms { inertia_density: k.density, force_density: DVec3::ZERO })
                 .collect(),
             drag: None,
             added_mass_coefficient: 0.0,
@@ -144,10 +132,6 @@ impl Physics {
     /// Stokes relaxation rate of kind `k` times d² (m²/s): `18 μ / (ρp + C_M ρ)`, so that a
     /// particle of diameter `d` has `1/τ = rate · f(Re) / d²` (L06 eq. 6). 0 without drag.
     pub fn drag_rate(&self, k: usize, fluid: &Fluid) -> f64 {
-        if self.drag.is_some() {
-            18.0 * fluid.viscosity / self.kinds[k].inertia_density
-        } else {
-            0.0
-        }
+        if self.drag.is_some() { 18.0 * fluid.viscosity / self.kinds[k].inertia_density } else { 0.0 }
     }
 }

@@ -19,11 +19,7 @@ pub struct Exponential;
 /// `φ1(z) = (eᶻ − 1)/z` and `φ2(z) = (eᶻ − 1 − z)/z²`, accurate to round-off for all `z ≤ 0`.
 #[inline]
 fn phi12(z: f64) -> (f64, f64) {
-    if z.abs() < 0.1 {
-        phi12_series(z)
-    } else {
-        phi12_closed(z)
-    }
+    if z.abs() < 0.1 { phi12_series(z) } else { phi12_closed(z) }
 }
 
 /// Taylor series `φk(z) = Σ z^j / (j + k)!`; ten terms reach 1e-17 at |z| = 0.1, where the
@@ -74,10 +70,7 @@ mod tests {
     fn series_and_closed_form_agree_where_the_scheme_switches() {
         let (s1, s2) = phi12_series(-0.1);
         let (c1, c2) = phi12_closed(-0.1);
-        assert!(
-            (s1 - c1).abs() < 1e-15 && (s2 - c2).abs() < 1e-14,
-            "{s1} {c1} {s2} {c2}"
-        );
+        assert!((s1 - c1).abs() < 1e-15 && (s2 - c2).abs() < 1e-14, "{s1} {c1} {s2} {c2}");
         assert_eq!(phi12(0.0), (1.0, 0.5));
     }
 

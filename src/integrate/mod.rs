@@ -100,19 +100,11 @@ impl<D: DragLaw, F: FlowField> ForceField for ParticleForce<D, F> {
     #[inline(always)]
     fn eval(&self, x: DVec3, v: DVec3) -> Linear {
         if !D::ACTIVE {
-            return Linear {
-                explicit: self.accel,
-                inv_tau: 0.0,
-                u: DVec3::ZERO,
-            };
+            return Linear { explicit: self.accel, inv_tau: 0.0, u: DVec3::ZERO };
         }
         let u = self.flow.velocity(x);
         let re = self.re_per_speed * (v - u).length();
-        Linear {
-            explicit: self.accel,
-            inv_tau: self.stokes_rate * D::factor(re),
-            u,
-        }
+        Linear { explicit: self.accel, inv_tau: self.stokes_rate * D::factor(re), u }
     }
 }
 
@@ -131,11 +123,7 @@ impl<F: ForceField> ForceField for Tangential<'_, F> {
     fn eval(&self, x: DVec3, v: DVec3) -> Linear {
         let l = self.inner.eval(x, v);
         let n = self.n;
-        Linear {
-            explicit: l.explicit - l.explicit.dot(n) * n,
-            inv_tau: l.inv_tau,
-            u: l.u - l.u.dot(n) * n,
-        }
+        Linear { explicit: l.explicit - l.explicit.dot(n) * n, inv_tau: l.inv_tau, u: l.u - l.u.dot(n) * n }
     }
 }
 
@@ -146,10 +134,7 @@ mod tests {
     use crate::fluid::Uniform;
 
     /// Stokes settling from rest in a uniform flow: the closed form of PHYSICS.md §1.
-    fn stokes_case() -> (
-        ParticleForce<Stokes, Uniform>,
-        impl Fn(f64) -> (DVec3, DVec3),
-    ) {
+    fn stokes_case() -> (ParticleForce<Stokes, Uniform>, impl Fn(f64) -> (DVec3, DVec3)) {
         let f = ParticleForce {
             accel: DVec3::new(0.3, 0.0, -2.0),
             stokes_rate: 1.0 / 0.05,

@@ -22,9 +22,6 @@ impl Scheme for Rk4 {
         let (x4, v4) = (x + h * k3x, v + h * k3v);
         let (k4x, k4v) = (v4, f.eval(x4, v4).total(v4));
         let sixth = h / 6.0;
-        (
-            x + sixth * (k1x + 2.0 * k2x + 2.0 * k3x + k4x),
-            v + sixth * (k1v + 2.0 * k2v + 2.0 * k3v + k4v),
-        )
+        (x + sixth * (k1x + 2.0 * k2x + 2.0 * k3x + k4x), v + sixth * (k1v + 2.0 * k2v + 2.0 * k3v + k4v))
     }
 }

@@ -11,8 +11,7 @@ type Writer = csv::Writer<BufWriter<File>>;
 fn create(path: &Path, header: &[&str]) -> Result<Writer, OutputError> {
     let file = File::create(path).map_err(|e| OutputError::new(path, e))?;
     let mut w = csv::Writer::from_writer(BufWriter::with_capacity(1 << 20, file));
-    w.write_record(header)
-        .map_err(|e| OutputError::new(path, e))?;
+    w.write_record(header).map_err(|e| OutputError::new(path, e))?;
     Ok(w)
 }
 
@@ -26,10 +25,7 @@ impl TrajectoryCsv {
     /// Creates the file and writes the header.
     pub fn create(path: impl Into<PathBuf>) -> Result<Self, OutputError> {
         let path = path.into();
-        let w = create(
-            &path,
-            &["t", "id", "x", "y", "z", "vx", "vy", "vz", "state"],
-        )?;
+        let w = create(&path, &["t", "id", "x", "y", "z", "vx", "vy", "vz", "state"])?;
         Ok(TrajectoryCsv { path, w })
     }
 }
@@ -40,17 +36,7 @@ impl Sink for TrajectoryCsv {
         for i in 0..p.len() {
             let (x, v) = (p.pos[i], p.vel[i]);
             self.w
-                .serialize((
-                    sim.time,
-                    p.id[i],
-                    x.x,
-                    x.y,
-                    x.z,
-                    v.x,
-                    v.y,
-                    v.z,
-                    p.state[i].name(),
-                ))
+                .serialize((sim.time, p.id[i], x.x, x.y, x.z, v.x, v.y, v.z, p.state[i].name()))
                 .map_err(|e| OutputError::new(&self.path, e))?;
         }
         Ok(())
@@ -71,17 +57,7 @@ impl EventCsv {
     /// Creates the file and writes the header.
     pub fn create(path: impl Into<PathBuf>) -> Result<Self, OutputError> {
         let path = path.into();
-        let header = [
-            "t",
-            "id",
-            "other",
-            "kind",
-            "normal_speed",
-            "st",
-            "eps",
-            "contact_time",
-            "outcome",
-        ];
+        let header = ["t", "id", "other", "kind", "normal_speed", "st", "eps", "contact_time", "outcome"];
         let w = create(&path, &header)?;
         Ok(EventCsv { path, w })
     }

@@ -16,30 +16,14 @@ pub(crate) fn run<M: Motion>(ctx: &Ctx<M>, p: &Particles, t0: f64, t1: f64, scra
         &mut scratch.next_pos,
         &mut scratch.next_vel,
         &mut scratch.next_state,
-        (
-            &p.pos,
-            &p.vel,
-            &p.state,
-            &p.wall,
-            &p.release_time,
-            &p.kind,
-            &p.diameter,
-        ),
+        (&p.pos, &p.vel, &p.state, &p.wall, &p.release_time, &p.kind, &p.diameter),
     )
         .into_par_iter()
         .with_min_len(1024)
-        .for_each(
-            |(x1, v1, s1, (&x, &v, &state, &wall, &t_release, &k, &d))| {
-                let start = t0.max(t_release);
-                let seg = Segment {
-                    t: start,
-                    x,
-                    v,
-                    state,
-                    wall,
-                };
-                let f = fly(ctx, &ctx.field(k as usize, d), 0.5 * d, &seg, t1 - start);
-                (*x1, *v1, *s1) = (f.x, f.v, f.state);
-            },
-        );
+        .for_each(|(x1, v1, s1, (&x, &v, &state, &wall, &t_release, &k, &d))| {
+            let start = t0.max(t_release);
+            let seg = Segment { t: start, x, v, state, wall };
+            let f = fly(ctx, &ctx.field(k as usize, d), 0.5 * d, &seg, t1 - start);
+            (*x1, *v1, *s1) = (f.x, f.v, f.state);
+        });
 }

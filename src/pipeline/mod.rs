@@ -18,12 +18,14 @@
 
 mod broad_phase;
 mod commit;
+mod contacts;
 mod events;
 mod free_flight;
 mod motion;
+pub mod neighbours;
+mod persistent;
 mod release;
 pub mod run;
-mod wall_contacts;
 
 pub use events::{ContactEvent, LostParticle, Other, Outcome};
 pub use motion::{Motion, WithMotion, dispatch};
@@ -32,9 +34,10 @@ use crate::contact::BounceRule;
 use crate::effects::Physics;
 use crate::fluid::Fluid;
 use crate::integrate::IntegratorKind;
-use crate::particles::{ParticleKind, Particles, State};
+use crate::particles::{NO_WALL, PairContact, ParticleKind, Particles, State};
 use crate::walls::Wall;
 use glam::DVec3;
+use neighbours::Neighbours;
 use std::time::{Duration, Instant};
 
 /// Wall time spent in each stage of [`Simulation::step`], summed over steps.
@@ -59,6 +62,7 @@ struct Scratch {
     next_vel: Vec<DVec3>,
     next_state: Vec<State>,
     candidates: Vec<u32>,
+    pair_candidates: Vec<[u32; 2]>,
 }
 
 /// Everything a simulation is: the world state and the fixed parameters of the scene.
@@ -90,6 +94,14 @@ pub struct Simulation {
     pub lost: Vec<LostParticle>,
     /// Time spent per stage.
     pub stage_times: StageTimes,
+    /// Lasting contacts between particles (holds, and pairs that met below `St_c`).
+    pub pair_contacts: Vec<PairContact>,
+    /// Verlet neighbour list for particle–particle contacts.
+    pub neighbours: Neighbours,
+    /// Whether particles collide with each other (off: they pass through each other).
+    pub pair_collisions: bool,
+    /// Verlet skin as a fraction of the largest diameter.
+    pub skin_fraction: f64,
     scratch: Scratch,
 }
 
@@ -102,6 +114,7 @@ pub(crate) struct Ctx<'a, M> {
     pub rule: &'a BounceRule,
     kind_accel: Vec<DVec3>,
     kind_drag_rate: Vec<f64>,
+    inertia_density: Vec<f64>,
     re_rate: f64,
 }
 
@@ -109,11 +122,7 @@ impl<'a, M: Motion> Ctx<'a, M> {
     /// The force field of a particle of kind `k` and diameter `d`.
     #[inline(always)]
     pub fn field(&self, k: usize, d: f64) -> M::Field {
-        self.motion.field(
-            self.kind_accel[k],
-            self.kind_drag_rate[k] / (d * d),
-            self.re_rate * d,
-        )
+        self.motion.field(self.kind_accel[k], self.kind_drag_rate[k] / (d * d), self.re_rate * d)
     }
 }
 
@@ -141,49 +150,27 @@ const FALL_AWAY: f64 = 1e-9;
 
 /// Integrates one segment over `h` (s): free flight, sliding on the wall, or nothing (held).
 #[inline]
-pub(crate) fn fly<M: Motion>(
-    ctx: &Ctx<M>,
-    field: &M::Field,
-    r: f64,
-    seg: &Segment,
-    h: f64,
-) -> Flight {
+pub(crate) fn fly<M: Motion>(ctx: &Ctx<M>, field: &M::Field, r: f64, seg: &Segment, h: f64) -> Flight {
     match seg.state {
-        State::Held => Flight {
-            x: seg.x,
-            v: seg.v,
-            state: State::Held,
-        },
-        State::Free => {
+        // Held at a wall: immobilised.
+        State::Held if seg.wall != NO_WALL => Flight { x: seg.x, v: seg.v, state: State::Held },
+        // Free, or held by another particle (the pair is kept together afterwards).
+        State::Free | State::Held => {
             let (x, v) = ctx.motion.advance(field, seg.x, seg.v, h);
-            Flight {
-                x,
-                v,
-                state: State::Free,
-            }
+            Flight { x, v, state: seg.state }
         }
         State::Resting => {
             use crate::walls::Surface;
             let wall = &ctx.walls[seg.wall as usize].shape;
             let n = wall.gap(seg.x, r).normal;
             let slide = crate::integrate::Tangential { inner: field, n };
-            let (x, v) = ctx
-                .motion
-                .advance(&slide, seg.x, seg.v - seg.v.dot(n) * n, h);
+            let (x, v) = ctx.motion.advance(&slide, seg.x, seg.v - seg.v.dot(n) * n, h);
             let g = wall.gap(x, r);
             if g.gap > FALL_AWAY * r {
-                Flight {
-                    x,
-                    v,
-                    state: State::Free,
-                }
+                Flight { x, v, state: State::Free }
             } else {
                 let n1 = g.normal;
-                Flight {
-                    x: x - g.gap * n1,
-                    v: v - v.dot(n1) * n1,
-                    state: State::Resting,
-                }
+                Flight { x: x - g.gap * n1, v: v - v.dot(n1) * n1, state: State::Resting }
             }
         }
     }
@@ -216,6 +203,10 @@ impl Simulation {
             events: Vec::new(),
             lost: Vec::new(),
             stage_times: StageTimes::default(),
+            pair_contacts: Vec::new(),
+            neighbours: Neighbours::default(),
+            pair_collisions: true,
+            skin_fraction: 0.5,
             scratch: Scratch::default(),
         }
     }
@@ -230,11 +221,7 @@ impl Simulation {
                 self.time = t_end;
                 break;
             }
-            let h = if remaining < 1.000_000_001 * self.dt {
-                remaining
-            } else {
-                self.dt
-            };
+            let h = if remaining < 1.000_000_001 * self.dt { remaining } else { self.dt };
             self.step(h);
             if h == remaining {
                 self.time = t_end;
@@ -258,14 +245,9 @@ impl Simulation {
             fluid: &self.fluid,
             rule: &self.rule,
             kind_accel: (0..n).map(|k| self.physics.body_acceleration(k)).collect(),
-            kind_drag_rate: (0..n)
-                .map(|k| self.physics.drag_rate(k, &self.fluid))
-                .collect(),
-            re_rate: if mu > 0.0 {
-                self.fluid.density / mu
-            } else {
-                0.0
-            },
+            kind_drag_rate: (0..n).map(|k| self.physics.drag_rate(k, &self.fluid)).collect(),
+            inertia_density: self.physics.kinds.iter().map(|k| k.inertia_density).collect(),
+            re_rate: if mu > 0.0 { self.fluid.density / mu } else { 0.0 },
         }
     }
 }
@@ -283,6 +265,8 @@ impl WithMotion for StepWith<'_> {
         let (t0, t1) = (sim.time, sim.time + h);
         let mut scratch = std::mem::take(&mut sim.scratch);
         let mut particles = std::mem::take(&mut sim.particles);
+        let mut contacts = std::mem::take(&mut sim.pair_contacts);
+        let mut neighbours = std::mem::take(&mut sim.neighbours);
         let mut times = sim.stage_times;
         let mut events = std::mem::take(&mut sim.events);
         {
@@ -290,18 +274,28 @@ impl WithMotion for StepWith<'_> {
             let clock = Instant::now();
             // 1.
             release::run(&ctx, &mut particles, t1);
+            persistent::release(&ctx, &mut particles, &mut contacts, t1);
             let c1 = Instant::now();
             // 2.
             free_flight::run(&ctx, &particles, t0, t1, &mut scratch);
             let c2 = Instant::now();
             // 3.
-            broad_phase::run(&ctx, &particles, &mut scratch);
+            let pairs: &[[u32; 2]] = if sim.pair_collisions {
+                neighbours.update(&particles.pos, &scratch.next_pos, &particles.diameter, sim.skin_fraction);
+                &neighbours.pairs
+            } else {
+                &[]
+            };
+            broad_phase::run(&ctx, &particles, &mut scratch, pairs, &contacts);
             let c3 = Instant::now();
             // 4. + 5.
-            wall_contacts::run(&ctx, &mut particles, t0, t1, &mut scratch, &mut events);
+            contacts::run(&ctx, &mut particles, t0, t1, &mut scratch, &mut events, &mut contacts);
+            persistent::run(&ctx, &particles, &mut scratch, &mut contacts);
             let c4 = Instant::now();
             // 6.
-            commit::run(&mut particles, &mut scratch, t1, &mut sim.lost);
+            if commit::run(&mut particles, &mut scratch, t1, &mut sim.lost, &mut contacts) {
+                neighbours.invalidate();
+            }
             let c5 = Instant::now();
             times.release += c1 - clock;
             times.free_flight += c2 - c1;
@@ -311,6 +305,8 @@ impl WithMotion for StepWith<'_> {
         }
         // 7. Events stay in `sim.events` for the sinks.
         sim.particles = particles;
+        sim.pair_contacts = contacts;
+        sim.neighbours = neighbours;
         sim.scratch = scratch;
         sim.events = events;
         sim.stage_times = times;

@@ -3,16 +3,14 @@
 
 use crate::effects::{DragLaw, DragLawKind, NoDrag, SchillerNaumann, Stokes};
 use crate::fluid::{self, Flow, FlowField};
-use crate::integrate::{
-    Euler, Exponential, ForceField, IntegratorKind, ParticleForce, Rk2, Rk4, Scheme,
-};
+use crate::integrate::{Euler, Exponential, ForceField, IntegratorKind, ParticleForce, Rk2, Rk4, Scheme};
 use glam::DVec3;
 use std::marker::PhantomData;
 
 /// Free flight of one particle: its force field and the integrator.
 pub trait Motion: Sync {
     /// The force field of one particle.
-    type Field: ForceField + Sync;
+    type Field: ForceField + Send + Sync;
     /// The field of a particle with constant acceleration `accel` (m/s²), Stokes drag rate
     /// `stokes_rate` (1/s) and Reynolds number per unit slip speed `re_per_speed` (s/m).
     fn field(&self, accel: DVec3, stokes_rate: f64, re_per_speed: f64) -> Self::Field;
@@ -33,13 +31,7 @@ impl<S: Scheme, D: DragLaw, F: FlowField> Motion for Mover<S, D, F> {
 
     #[inline(always)]
     fn field(&self, accel: DVec3, stokes_rate: f64, re_per_speed: f64) -> Self::Field {
-        ParticleForce {
-            accel,
-            stokes_rate,
-            re_per_speed,
-            flow: self.flow,
-            law: PhantomData,
-        }
+        ParticleForce { accel, stokes_rate, re_per_speed, flow: self.flow, law: PhantomData }
     }
 
     #[inline(always)]
@@ -81,15 +73,7 @@ fn by_drag<S: Scheme, W: WithMotion>(s: S, drag: Option<DragLawKind>, flow: Flow
 
 fn by_flow<S: Scheme, D: DragLaw, W: WithMotion>(scheme: S, flow: Flow, w: W) -> W::Out {
     match flow {
-        Flow::Quiescent => w.run(&Mover::<S, D, _> {
-            scheme,
-            flow: fluid::Quiescent,
-            law: PhantomData,
-        }),
-        Flow::Uniform(u) => w.run(&Mover::<S, D, _> {
-            scheme,
-            flow: fluid::Uniform(u),
-            law: PhantomData,
-        }),
+        Flow::Quiescent => w.run(&Mover::<S, D, _> { scheme, flow: fluid::Quiescent, law: PhantomData }),
+        Flow::Uniform(u) => w.run(&Mover::<S, D, _> { scheme, flow: fluid::Uniform(u), law: PhantomData }),
     }
 }

@@ -30,15 +30,10 @@ pub(super) fn parse(source: &str, path: &Path) -> Result<SceneFile, SceneError> 
             message: format!("{}{}", e.message().trim_end(), at.unwrap_or_default()),
         }
     };
-    let de =
-        toml::de::Deserializer::parse(source).map_err(|e| located("(top level)".into(), &e))?;
+    let de = toml::de::Deserializer::parse(source).map_err(|e| located("(top level)".into(), &e))?;
     serde_path_to_error::deserialize(de).map_err(|e| {
         let key = e.path().to_string();
-        let key = if key == "." {
-            "(top level)".to_string()
-        } else {
-            key
-        };
+        let key = if key == "." { "(top level)".to_string() } else { key };
         located(key, e.inner())
     })
 }
@@ -64,17 +59,10 @@ pub(super) fn build(file: SceneFile, base: &Path, source: &str) -> Result<Scene,
         let line = format!(" (line {})", line_of(source, table.span().start));
         let value = table.get_ref();
         if !value.is_table() {
-            return Err(Invalid::new(
-                key,
-                format!("must be a table such as {{}}, got {value}{line}"),
-            ));
+            return Err(Invalid::new(key, format!("must be a table such as {{}}, got {value}{line}")));
         }
         let effect = build_effect(name, value.clone()).map_err(|e| {
-            let key = if e.key.is_empty() {
-                key.clone()
-            } else {
-                format!("{key}.{}", e.key)
-            };
+            let key = if e.key.is_empty() { key.clone() } else { format!("{key}.{}", e.key) };
             Invalid::new(key, format!("{}{line}", e.message))
         })?;
         effects.push(effect);
@@ -99,9 +87,7 @@ pub(super) fn build(file: SceneFile, base: &Path, source: &str) -> Result<Scene,
         )?,
         hold_at_contact: physics.hold_at_contact,
     };
-    let has_solid = kinds
-        .iter()
-        .any(|k| matches!(k.material, Material::Solid { .. }));
+    let has_solid = kinds.iter().any(|k| matches!(k.material, Material::Solid { .. }));
     if has_solid && rule.st_critical <= EQ4_POLE {
         return Err(Invalid::new(
             "bounce.st_critical",
@@ -140,11 +126,7 @@ fn build_fluid(f: &FluidSpec) -> Result<Fluid, Invalid> {
         gravity: check::vector("fluid.gravity", f.gravity)?,
         flow: match f.flow.flow {
             FlowType::Quiescent => {
-                forbid(
-                    "fluid.flow.velocity",
-                    f.flow.velocity.is_some(),
-                    "a quiescent flow",
-                )?;
+                forbid("fluid.flow.velocity", f.flow.velocity.is_some(), "a quiescent flow")?;
                 Flow::Quiescent
             }
             FlowType::Uniform => {
@@ -157,10 +139,7 @@ fn build_fluid(f: &FluidSpec) -> Result<Fluid, Invalid> {
 
 fn build_kinds(specs: &[KindSpec]) -> Result<Vec<ParticleKind>, Invalid> {
     if specs.is_empty() {
-        return Err(Invalid::new(
-            "kinds",
-            "at least one particle kind is needed",
-        ));
+        return Err(Invalid::new("kinds", "at least one particle kind is needed"));
     }
     let mut kinds: Vec<ParticleKind> = Vec::new();
     for (i, spec) in specs.iter().enumerate() {
@@ -168,11 +147,7 @@ fn build_kinds(specs: &[KindSpec]) -> Result<Vec<ParticleKind>, Invalid> {
         let name = &spec.name;
         let material = match spec.material {
             KindType::Solid => {
-                forbid(
-                    &key("surface_tension"),
-                    spec.surface_tension.is_some(),
-                    "a solid (drops have it)",
-                )?;
+                forbid(&key("surface_tension"), spec.surface_tension.is_some(), "a solid (drops have it)")?;
                 Material::Solid {
                     youngs_modulus: check::positive(
                         &key("youngs_modulus"),
@@ -185,16 +160,8 @@ fn build_kinds(specs: &[KindSpec]) -> Result<Vec<ParticleKind>, Invalid> {
                 }
             }
             KindType::Drop => {
-                forbid(
-                    &key("youngs_modulus"),
-                    spec.youngs_modulus.is_some(),
-                    "a drop (solids have it)",
-                )?;
-                forbid(
-                    &key("poisson_ratio"),
-                    spec.poisson_ratio.is_some(),
-                    "a drop (solids have it)",
-                )?;
+                forbid(&key("youngs_modulus"), spec.youngs_modulus.is_some(), "a drop (solids have it)")?;
+                forbid(&key("poisson_ratio"), spec.poisson_ratio.is_some(), "a drop (solids have it)")?;
                 required(&key("restitution_max"), spec.restitution_max, "a drop")?;
                 Material::Drop {
                     surface_tension: check::positive(
@@ -210,10 +177,7 @@ fn build_kinds(specs: &[KindSpec]) -> Result<Vec<ParticleKind>, Invalid> {
             return Err(Invalid::new(key("name"), "must not be empty"));
         }
         if kinds.iter().any(|k| &k.name == name) {
-            return Err(Invalid::new(
-                key("name"),
-                format!("duplicate kind name \"{name}\""),
-            ));
+            return Err(Invalid::new(key("name"), format!("duplicate kind name \"{name}\"")));
         }
         if kinds.len() >= u16::MAX as usize {
             return Err(Invalid::new("kinds", format!("at most {} kinds", u16::MAX)));
@@ -235,11 +199,7 @@ fn required<T>(key: &str, v: Option<T>, what: &str) -> Result<T, Invalid> {
 
 /// A key the entry's `type` does not have.
 fn forbid(key: &str, present: bool, what: &str) -> Result<(), Invalid> {
-    if present {
-        Err(Invalid::new(key, format!("not a key of {what}")))
-    } else {
-        Ok(())
-    }
+    if present { Err(Invalid::new(key, format!("not a key of {what}"))) } else { Ok(()) }
 }
 
 fn poisson(key: &str, v: f64) -> Result<f64, Invalid> {
@@ -254,14 +214,8 @@ fn poisson(key: &str, v: f64) -> Result<f64, Invalid> {
 fn build_material(m: &MaterialSpec, key: &str) -> Result<WallMaterial, Invalid> {
     let k = |f: &str| format!("{key}.material.{f}");
     Ok(WallMaterial {
-        youngs_modulus: m
-            .youngs_modulus
-            .map(|v| check::positive(&k("youngs_modulus"), v))
-            .transpose()?,
-        poisson_ratio: m
-            .poisson_ratio
-            .map(|v| poisson(&k("poisson_ratio"), v))
-            .transpose()?,
+        youngs_modulus: m.youngs_modulus.map(|v| check::positive(&k("youngs_modulus"), v)).transpose()?,
+        poisson_ratio: m.poisson_ratio.map(|v| poisson(&k("poisson_ratio"), v)).transpose()?,
         restitution_max: m
             .restitution_max
             .map(|v| check::in_range(&k("restitution_max"), v, 0.0, 1.0))
@@ -294,10 +248,7 @@ fn build_walls(specs: &[WallSpec], base: &Path) -> Result<Vec<Wall>, Invalid> {
             }),
             WallType::Box => {
                 let (min, max) = (need("min", spec.min)?, need("max", spec.max)?);
-                let (lo, hi) = (
-                    check::vector(&k("min"), min)?,
-                    check::vector(&k("max"), max)?,
-                );
+                let (lo, hi) = (check::vector(&k("min"), min)?, check::vector(&k("max"), max)?);
                 if !lo.cmplt(hi).all() {
                     return Err(Invalid::new(
                         k("max"),
@@ -309,11 +260,7 @@ fn build_walls(specs: &[WallSpec], base: &Path) -> Result<Vec<Wall>, Invalid> {
                     spec.inside,
                     "a box (true: particles inside it; false: it is an obstacle)",
                 )?;
-                Shape::Cuboid(Cuboid {
-                    min: lo,
-                    max: hi,
-                    inside,
-                })
+                Shape::Cuboid(Cuboid { min: lo, max: hi, inside })
             }
             WallType::Cylinder => {
                 let (lo, hi) = match spec.length {
@@ -323,10 +270,7 @@ fn build_walls(specs: &[WallSpec], base: &Path) -> Result<Vec<Wall>, Invalid> {
                 Shape::Cylinder(Cylinder {
                     base: check::vector(&k("base"), need("base", spec.base)?)?,
                     axis: check::direction(&k("axis"), spec.axis.unwrap_or([0.0, 0.0, 1.0]))?,
-                    radius: check::positive(
-                        &k("radius"),
-                        required(&k("radius"), spec.radius, what)?,
-                    )?,
+                    radius: check::positive(&k("radius"), required(&k("radius"), spec.radius, what)?)?,
                     lo,
                     hi,
                 })
@@ -345,26 +289,15 @@ fn build_walls(specs: &[WallSpec], base: &Path) -> Result<Vec<Wall>, Invalid> {
             return Err(Invalid::new(k("name"), "must not be empty"));
         }
         if walls.iter().any(|w| &w.name == name) {
-            return Err(Invalid::new(
-                k("name"),
-                format!("duplicate wall name \"{name}\""),
-            ));
+            return Err(Invalid::new(k("name"), format!("duplicate wall name \"{name}\"")));
         }
-        walls.push(Wall {
-            name: name.clone(),
-            material: build_material(material, &key)?,
-            shape,
-        });
+        walls.push(Wall { name: name.clone(), material: build_material(material, &key)?, shape });
     }
     Ok(walls)
 }
 
 /// A particle may start touching a wall (gap 0) but not overlapping or behind it.
-fn check_clear_of_walls(
-    origins: &fill::Origins,
-    p: &Particles,
-    walls: &[Wall],
-) -> Result<(), Invalid> {
+fn check_clear_of_walls(origins: &fill::Origins, p: &Particles, walls: &[Wall]) -> Result<(), Invalid> {
     for i in 0..p.len() {
         let r = 0.5 * p.diameter[i];
         for wall in walls {

@@ -54,10 +54,7 @@ pub(crate) struct Invalid {
 
 impl Invalid {
     pub fn new(key: impl Into<String>, message: impl Into<String>) -> Self {
-        Invalid {
-            key: key.into(),
-            message: message.into(),
-        }
+        Invalid { key: key.into(), message: message.into() }
     }
 }
 
@@ -67,29 +64,17 @@ pub(crate) mod check {
     use glam::DVec3;
 
     pub fn finite(key: &str, v: f64) -> Result<f64, Invalid> {
-        if v.is_finite() {
-            Ok(v)
-        } else {
-            Err(Invalid::new(key, format!("must be finite, got {v}")))
-        }
+        if v.is_finite() { Ok(v) } else { Err(Invalid::new(key, format!("must be finite, got {v}"))) }
     }
 
     pub fn positive(key: &str, v: f64) -> Result<f64, Invalid> {
         finite(key, v)?;
-        if v > 0.0 {
-            Ok(v)
-        } else {
-            Err(Invalid::new(key, format!("must be > 0, got {v}")))
-        }
+        if v > 0.0 { Ok(v) } else { Err(Invalid::new(key, format!("must be > 0, got {v}"))) }
     }
 
     pub fn non_negative(key: &str, v: f64) -> Result<f64, Invalid> {
         finite(key, v)?;
-        if v >= 0.0 {
-            Ok(v)
-        } else {
-            Err(Invalid::new(key, format!("must be >= 0, got {v}")))
-        }
+        if v >= 0.0 { Ok(v) } else { Err(Invalid::new(key, format!("must be >= 0, got {v}"))) }
     }
 
     pub fn in_range(key: &str, v: f64, lo: f64, hi: f64) -> Result<f64, Invalid> {
@@ -97,10 +82,7 @@ pub(crate) mod check {
         if (lo..=hi).contains(&v) {
             Ok(v)
         } else {
-            Err(Invalid::new(
-                key,
-                format!("must be between {lo} and {hi}, got {v}"),
-            ))
+            Err(Invalid::new(key, format!("must be between {lo} and {hi}, got {v}")))
         }
     }
 
@@ -109,10 +91,7 @@ pub(crate) mod check {
         if d.is_finite() {
             Ok(d)
         } else {
-            Err(Invalid::new(
-                key,
-                format!("must have finite components, got {v:?}"),
-            ))
+            Err(Invalid::new(key, format!("must have finite components, got {v:?}")))
         }
     }
 
@@ -122,10 +101,7 @@ pub(crate) mod check {
         if len > 0.0 {
             Ok(d / len)
         } else {
-            Err(Invalid::new(
-                key,
-                format!("must be a non-zero vector, got {v:?}"),
-            ))
+            Err(Invalid::new(key, format!("must be a non-zero vector, got {v:?}")))
         }
     }
 }

@@ -22,17 +22,10 @@ pub(super) fn add_particles(
 ) -> Result<Origins, Invalid> {
     let mut origins = Origins::new();
     let kind_index = |key: String, name: &str| -> Result<u16, Invalid> {
-        kinds
-            .iter()
-            .position(|k| k.name == name)
-            .map(|i| i as u16)
-            .ok_or_else(|| {
-                let names: Vec<&str> = kinds.iter().map(|k| k.name.as_str()).collect();
-                Invalid::new(
-                    key,
-                    format!("unknown kind \"{name}\"; kinds are: {}", names.join(", ")),
-                )
-            })
+        kinds.iter().position(|k| k.name == name).map(|i| i as u16).ok_or_else(|| {
+            let names: Vec<&str> = kinds.iter().map(|k| k.name.as_str()).collect();
+            Invalid::new(key, format!("unknown kind \"{name}\"; kinds are: {}", names.join(", ")))
+        })
     };
     let push = |p: &mut Particles, kind: u16, d: f64, x: DVec3, v: DVec3| {
         let id = p.len() as u32;
@@ -65,10 +58,7 @@ pub(super) fn add_particles(
         if n.x * n.y * n.z + p.len() as f64 > MAX_PARTICLES as f64 {
             return Err(Invalid::new(
                 k("spacing"),
-                format!(
-                    "gives {:.3e} particles, more than {MAX_PARTICLES}",
-                    n.x * n.y * n.z
-                ),
+                format!("gives {:.3e} particles, more than {MAX_PARTICLES}", n.x * n.y * n.z),
             ));
         }
         origins.push((p.len(), format!("lattice[{i}]")));
@@ -90,10 +80,7 @@ pub(super) fn add_particles(
         if s.count as usize + p.len() > MAX_PARTICLES {
             return Err(Invalid::new(
                 k("count"),
-                format!(
-                    "must leave the scene at most {MAX_PARTICLES} particles, got {}",
-                    s.count
-                ),
+                format!("must leave the scene at most {MAX_PARTICLES} particles, got {}", s.count),
             ));
         }
         let r = 0.5 * d;
@@ -163,8 +150,7 @@ fn place_random(
             (-1..=1).all(|dy| {
                 (-1..=1).all(|dx| {
                     grid.get(&(c + IVec3::new(dx, dy, dz))).is_none_or(|list| {
-                        list.iter()
-                            .all(|&j| (p.pos[j] - x).length() >= 0.5 * (p.diameter[j] + d))
+                        list.iter().all(|&j| (p.pos[j] - x).length() >= 0.5 * (p.diameter[j] + d))
                     })
                 })
             })
@@ -182,7 +168,5 @@ fn place_random(
 /// The scene key that created particle `i` (`particles[2].position`, `lattice[0]`, …).
 pub(super) fn origin_key(origins: &Origins, i: usize) -> String {
     let group = origins.partition_point(|(first, _)| *first <= i);
-    origins
-        .get(group.wrapping_sub(1))
-        .map_or_else(|| "particles".into(), |(_, key)| key.clone())
+    origins.get(group.wrapping_sub(1)).map_or_else(|| "particles".into(), |(_, key)| key.clone())
 }

@@ -55,10 +55,8 @@ impl Scene {
     /// to the scene file's folder.
     pub fn load(path: impl AsRef<Path>) -> Result<Scene, SceneError> {
         let path = path.as_ref();
-        let source = std::fs::read_to_string(path).map_err(|source| SceneError::Read {
-            file: path.to_path_buf(),
-            source,
-        })?;
+        let source = std::fs::read_to_string(path)
+            .map_err(|source| SceneError::Read { file: path.to_path_buf(), source })?;
         Scene::from_str(&source, path)
     }
 
@@ -72,11 +70,7 @@ impl Scene {
                 scene.path = path.to_path_buf();
                 scene
             })
-            .map_err(|e| SceneError::Invalid {
-                file: path.to_path_buf(),
-                key: e.key,
-                message: e.message,
-            })
+            .map_err(|e| SceneError::Invalid { file: path.to_path_buf(), key: e.key, message: e.message })
     }
 
     /// The simulation at time 0.

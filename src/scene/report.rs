@@ -40,10 +40,7 @@ pub struct KindReport {
 pub fn kind_reports(scene: &Scene) -> Vec<KindReport> {
     let mut seen: Vec<(u16, u64)> = Vec::new();
     for i in 0..scene.particles.len() {
-        let key = (
-            scene.particles.kind[i],
-            scene.particles.diameter[i].to_bits(),
-        );
+        let key = (scene.particles.kind[i], scene.particles.diameter[i].to_bits());
         if !seen.contains(&key) {
             seen.push(key);
         }
@@ -53,17 +50,14 @@ pub fn kind_reports(scene: &Scene) -> Vec<KindReport> {
     let (material, wall) = scene
         .walls
         .first()
-        .map_or((WallMaterial::default(), "rigid wall".to_string()), |w| {
-            (w.material, w.name.clone())
-        });
+        .map_or((WallMaterial::default(), "rigid wall".to_string()), |w| (w.material, w.name.clone()));
     seen.into_iter()
         .map(|(k, bits)| {
             let kind = &scene.kinds[k as usize];
             let d = f64::from_bits(bits);
             let g = fluid.gravity.length();
-            let tv = terminal_velocity(kind.density, fluid.density, d, fluid.viscosity, g, |re| {
-                law.factor(re)
-            });
+            let tv =
+                terminal_velocity(kind.density, fluid.density, d, fluid.viscosity, g, |re| law.factor(re));
             let impact = wall_impact(
                 kind,
                 d,

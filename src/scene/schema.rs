@@ -85,11 +85,7 @@ pub struct BounceSpec {
 
 impl Default for BounceSpec {
     fn default() -> Self {
-        BounceSpec {
-            beta: default_beta(),
-            st_critical: default_st_critical(),
-            tangential_restitution: 1.0,
-        }
+        BounceSpec { beta: default_beta(), st_critical: default_st_critical(), tangential_restitution: 1.0 }
     }
 }
 

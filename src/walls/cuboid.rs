@@ -36,21 +36,12 @@ impl Cuboid {
         let d = c - nearest;
         let dist = d.length();
         if dist > 0.0 {
-            return Gap {
-                gap: dist - r,
-                normal: d / dist,
-            };
+            return Gap { gap: dist - r, normal: d / dist };
         }
         // Centre inside the box: leave through the nearest face.
-        let (depth, inward) = self
-            .inner_faces(c)
-            .into_iter()
-            .min_by(|a, b| a.0.total_cmp(&b.0))
-            .expect("six faces");
-        Gap {
-            gap: -depth - r,
-            normal: -inward,
-        }
+        let (depth, inward) =
+            self.inner_faces(c).into_iter().min_by(|a, b| a.0.total_cmp(&b.0)).expect("six faces");
+        Gap { gap: -depth - r, normal: -inward }
     }
 }
 
@@ -59,15 +50,9 @@ impl Surface for Cuboid {
         if !self.inside {
             return self.outer_gap(c, r);
         }
-        let (dist, normal) = self
-            .inner_faces(c)
-            .into_iter()
-            .min_by(|a, b| a.0.total_cmp(&b.0))
-            .expect("six faces");
-        Gap {
-            gap: dist - r,
-            normal,
-        }
+        let (dist, normal) =
+            self.inner_faces(c).into_iter().min_by(|a, b| a.0.total_cmp(&b.0)).expect("six faces");
+        Gap { gap: dist - r, normal }
     }
 
     fn sweep(&self, c0: DVec3, c1: DVec3, r: f64) -> Option<Crossing> {
@@ -84,20 +69,12 @@ impl Surface for Cuboid {
         let tol = 1e-12 * r;
         let enter = convex_crossing(|l| self.outer_gap(c0 + l * dir, r), dir, tol)?;
         // The exit is the first root of the reversed move.
-        let exit = convex_crossing(|l| self.outer_gap(c1 - l * dir, r), -dir, tol)
-            .map_or(1.0, |l| 1.0 - l);
-        Some(Crossing {
-            enter,
-            exit: exit.max(enter),
-        })
+        let exit = convex_crossing(|l| self.outer_gap(c1 - l * dir, r), -dir, tol).map_or(1.0, |l| 1.0 - l);
+        Some(Crossing { enter, exit: exit.max(enter) })
     }
 
     fn may_touch(&self, c0: DVec3, c1: DVec3, r: f64) -> bool {
-        if self.inside {
-            ends_touch(self, c0, c1, r)
-        } else {
-            boxes_overlap(c0, c1, r, self.min, self.max)
-        }
+        if self.inside { ends_touch(self, c0, c1, r) } else { boxes_overlap(c0, c1, r, self.min, self.max) }
     }
 }
 
@@ -107,11 +84,7 @@ mod tests {
 
     #[test]
     fn sphere_sweeping_past_a_box_edge_touches_at_the_rounded_edge() {
-        let b = Cuboid {
-            min: DVec3::ZERO,
-            max: DVec3::ONE,
-            inside: false,
-        };
+        let b = Cuboid { min: DVec3::ZERO, max: DVec3::ONE, inside: false };
         // Moving along x, centre 0.1 above the top face: it first touches the edge x = 0, z = 1.
         let r = 0.2;
         let c0 = DVec3::new(-1.0, 0.5, 1.0 + 0.1);
@@ -120,24 +93,14 @@ mod tests {
         // Touch when the distance to the edge x = 0, z = 1 is r: dx² + 0.1² = 0.04.
         let x = -(0.04f64 - 0.01).sqrt();
         let expected = (x - c0.x) / 3.0;
-        assert!(
-            (hit.enter - expected).abs() < 1e-9,
-            "{} vs {expected}",
-            hit.enter
-        );
+        assert!((hit.enter - expected).abs() < 1e-9, "{} vs {expected}", hit.enter);
         assert!(hit.exit > 0.5);
     }
 
     #[test]
     fn particle_inside_box_touches_the_nearest_face_first() {
-        let b = Cuboid {
-            min: DVec3::ZERO,
-            max: DVec3::ONE,
-            inside: true,
-        };
-        let hit = b
-            .sweep(DVec3::splat(0.5), DVec3::new(0.5, 0.5, -0.5), 0.1)
-            .unwrap();
+        let b = Cuboid { min: DVec3::ZERO, max: DVec3::ONE, inside: true };
+        let hit = b.sweep(DVec3::splat(0.5), DVec3::new(0.5, 0.5, -0.5), 0.1).unwrap();
         assert!((hit.enter - 0.4).abs() < 1e-12);
     }
 }

@@ -37,15 +37,8 @@ impl Surface for Cylinder {
         let (perp, _) = self.split(c);
         let rho = perp.length();
         // On the axis every direction is the nearest; pick one perpendicular to the axis.
-        let outward = if rho > 0.0 {
-            perp / rho
-        } else {
-            self.axis.any_orthonormal_vector()
-        };
-        Gap {
-            gap: self.radius - rho - r,
-            normal: -outward,
-        }
+        let outward = if rho > 0.0 { perp / rho } else { self.axis.any_orthonormal_vector() };
+        Gap { gap: self.radius - rho - r, normal: -outward }
     }
 
     fn sweep(&self, c0: DVec3, c1: DVec3, r: f64) -> Option<Crossing> {
@@ -95,9 +88,7 @@ mod tests {
             lo: f64::NEG_INFINITY,
             hi: f64::INFINITY,
         };
-        let hit = cyl
-            .sweep(DVec3::ZERO, DVec3::new(2.0, 0.0, 5.0), 0.25)
-            .unwrap();
+        let hit = cyl.sweep(DVec3::ZERO, DVec3::new(2.0, 0.0, 5.0), 0.25).unwrap();
         assert!((hit.enter - 0.375).abs() < 1e-14);
         let g = cyl.gap(DVec3::new(0.75, 0.0, 1.0), 0.25);
         assert!(g.gap.abs() < 1e-15 && (g.normal + DVec3::X).length() < 1e-15);

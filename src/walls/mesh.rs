@@ -59,49 +59,31 @@ pub enum MeshError {
 /// degenerate (zero-area) triangles, naming the first bad one.
 pub fn load_mesh(path: &Path, scale: f64, translate: DVec3) -> Result<MeshWall, MeshError> {
     let shown = path.display().to_string();
-    let ext = path
-        .extension()
-        .and_then(|e| e.to_str())
-        .map(str::to_ascii_lowercase);
+    let ext = path.extension().and_then(|e| e.to_str()).map(str::to_ascii_lowercase);
     let (vertices, triangles) = match ext.as_deref() {
         Some("stl") => read_stl(path, &shown)?,
         Some("obj") => read_obj(path, &shown)?,
         _ => return Err(MeshError::Extension { path: shown }),
     };
-    let geometry = |message: String| MeshError::Geometry {
-        path: shown.clone(),
-        message,
-    };
+    let geometry = |message: String| MeshError::Geometry { path: shown.clone(), message };
     if triangles.is_empty() {
         return Err(geometry("contains no triangles".into()));
     }
     if let Some(i) = vertices.iter().position(|v| !v.is_finite()) {
-        return Err(geometry(format!(
-            "vertex {i} has a non-finite coordinate {:?}",
-            vertices[i]
-        )));
+        return Err(geometry(format!("vertex {i} has a non-finite coordinate {:?}", vertices[i])));
     }
     let n = vertices.len() as u32;
-    let vertices: Vec<DVec3> = vertices
-        .into_iter()
-        .map(|v| v * scale + translate)
-        .collect();
-    let extent = vertices
-        .iter()
-        .fold(0.0f64, |m, v| m.max((*v - vertices[0]).length()));
+    let vertices: Vec<DVec3> = vertices.into_iter().map(|v| v * scale + translate).collect();
+    let extent = vertices.iter().fold(0.0f64, |m, v| m.max((*v - vertices[0]).length()));
     for (i, t) in triangles.iter().enumerate() {
         if t.iter().any(|&k| k >= n) {
-            return Err(geometry(format!(
-                "triangle {i} refers to a vertex beyond the {n} given"
-            )));
+            return Err(geometry(format!("triangle {i} refers to a vertex beyond the {n} given")));
         }
         let [a, b, c] = t.map(|k| vertices[k as usize]);
         let area2 = (b - a).cross(c - a).length();
         // Coordinates are finite here, so the area is a number.
         if area2 <= 1e-12 * extent * extent {
-            return Err(geometry(format!(
-                "triangle {i} is degenerate (zero area): vertices {a}, {b}, {c}"
-            )));
+            return Err(geometry(format!("triangle {i} is degenerate (zero area): vertices {a}, {b}, {c}")));
         }
     }
     let (vertices, mut triangles) = merge_duplicate_vertices(vertices, triangles);
@@ -133,21 +115,13 @@ fn merge_duplicate_vertices(vertices: Vec<DVec3>, triangles: Vec<[u32; 3]>) -> R
     let remap: Vec<u32> = vertices
         .iter()
         .map(|v| {
-            *index
-                .entry(v.to_array().map(f64::to_bits))
-                .or_insert_with(|| {
-                    merged.push(*v);
-                    merged.len() as u32 - 1
-                })
+            *index.entry(v.to_array().map(f64::to_bits)).or_insert_with(|| {
+                merged.push(*v);
+                merged.len() as u32 - 1
+            })
         })
         .collect();
-    (
-        merged,
-        triangles
-            .into_iter()
-            .map(|t| t.map(|k| remap[k as usize]))
-            .collect(),
-    )
+    (merged, triangles.into_iter().map(|t| t.map(|k| remap[k as usize])).collect())
 }
 
 /// Closed and consistently oriented: each directed edge once, and its reverse once.
@@ -158,70 +132,41 @@ fn is_closed(triangles: &[[u32; 3]]) -> bool {
             *edges.entry((a, b)).or_insert(0u32) += 1;
         }
     }
-    edges
-        .iter()
-        .all(|(&(a, b), &n)| n == 1 && edges.get(&(b, a)) == Some(&1))
+    edges.iter().all(|(&(a, b), &n)| n == 1 && edges.get(&(b, a)) == Some(&1))
 }
 
 type RawMesh = (Vec<DVec3>, Vec<[u32; 3]>);
 
 fn read_stl(path: &Path, shown: &str) -> Result<RawMesh, MeshError> {
-    let mut file = std::fs::File::open(path).map_err(|source| MeshError::Read {
-        path: shown.into(),
-        source,
-    })?;
+    let mut file =
+        std::fs::File::open(path).map_err(|source| MeshError::Read { path: shown.into(), source })?;
     let stl = stl_io::read_stl(&mut file).map_err(|e| MeshError::Format {
         path: shown.into(),
         format: "STL",
         message: e.to_string(),
     })?;
-    let vertices = stl
-        .vertices
-        .iter()
-        .map(|v| DVec3::from(v.0.map(f64::from)))
-        .collect();
-    let triangles = stl
-        .faces
-        .iter()
-        .map(|f| f.vertices.map(|k| k as u32))
-        .collect();
+    let vertices = stl.vertices.iter().map(|v| DVec3::from(v.0.map(f64::from))).collect();
+    let triangles = stl.faces.iter().map(|f| f.vertices.map(|k| k as u32)).collect();
     Ok((vertices, triangles))
 }
 
 fn read_obj(path: &Path, shown: &str) -> Result<RawMesh, MeshError> {
-    let options = tobj::LoadOptions {
-        triangulate: true,
-        single_index: true,
-        ..Default::default()
-    };
+    let options = tobj::LoadOptions { triangulate: true, single_index: true, ..Default::default() };
     let (models, _) = tobj::load_obj(path, &options).map_err(|e| match e {
         tobj::LoadError::OpenFileFailed => MeshError::Read {
             path: shown.into(),
-            source: std::fs::File::open(path)
-                .err()
-                .unwrap_or_else(|| std::io::Error::other(e)),
+            source: std::fs::File::open(path).err().unwrap_or_else(|| std::io::Error::other(e)),
         },
-        other => MeshError::Format {
-            path: shown.into(),
-            format: "OBJ",
-            message: other.to_string(),
-        },
+        other => MeshError::Format { path: shown.into(), format: "OBJ", message: other.to_string() },
     })?;
     let mut vertices = Vec::new();
     let mut triangles = Vec::new();
     for model in models {
         let offset = vertices.len() as u32;
         let m = model.mesh;
-        vertices.extend(
-            m.positions
-                .chunks_exact(3)
-                .map(|p| DVec3::new(p[0] as f64, p[1] as f64, p[2] as f64)),
-        );
-        triangles.extend(
-            m.indices
-                .chunks_exact(3)
-                .map(|t| [t[0] + offset, t[1] + offset, t[2] + offset]),
-        );
+        vertices
+            .extend(m.positions.chunks_exact(3).map(|p| DVec3::new(p[0] as f64, p[1] as f64, p[2] as f64)));
+        triangles.extend(m.indices.chunks_exact(3).map(|t| [t[0] + offset, t[1] + offset, t[2] + offset]));
     }
     Ok((vertices, triangles))
 }
@@ -233,10 +178,7 @@ impl Surface for MeshWall {
         let dist = d.length();
         if self.closed && proj.is_inside && dist > 0.0 {
             // Inside a solid body: the gap is negative, the normal points out of it.
-            return Gap {
-                gap: -dist - r,
-                normal: -d / dist,
-            };
+            return Gap { gap: -dist - r, normal: -d / dist };
         }
         let normal = if dist > 1e-15 {
             d / dist
@@ -250,18 +192,12 @@ impl Surface for MeshWall {
                 _ => DVec3::Z,
             }
         };
-        Gap {
-            gap: dist - r,
-            normal,
-        }
+        Gap { gap: dist - r, normal }
     }
 
     fn sweep(&self, c0: DVec3, c1: DVec3, r: f64) -> Option<Crossing> {
         let ball = Ball::new(r);
-        let options = ShapeCastOptions {
-            max_time_of_impact: 1.0,
-            ..Default::default()
-        };
+        let options = ShapeCastOptions { max_time_of_impact: 1.0, ..Default::default() };
         let cast = |from: DVec3, to: DVec3| {
             cast_shapes(
                 &Pose::IDENTITY,
@@ -278,10 +214,7 @@ impl Surface for MeshWall {
         };
         let enter = cast(c0, c1)?;
         let exit = cast(c1, c0).map_or(1.0, |back| 1.0 - back);
-        Some(Crossing {
-            enter,
-            exit: exit.max(enter),
-        })
+        Some(Crossing { enter, exit: exit.max(enter) })
     }
 
     fn may_touch(&self, c0: DVec3, c1: DVec3, r: f64) -> bool {

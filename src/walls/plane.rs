@@ -15,10 +15,7 @@ pub struct Plane {
 impl Surface for Plane {
     #[inline]
     fn gap(&self, c: DVec3, r: f64) -> Gap {
-        Gap {
-            gap: (c - self.point).dot(self.normal) - r,
-            normal: self.normal,
-        }
+        Gap { gap: (c - self.point).dot(self.normal) - r, normal: self.normal }
     }
 
     #[inline]

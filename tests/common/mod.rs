@@ -6,18 +6,13 @@ use wetbounce::{Scene, Simulation};
 
 /// Builds a scene from TOML text, as if it were a file in `scenes/`.
 pub fn scene(text: &str) -> Scene {
-    Scene::from_str(
-        text,
-        Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/scenes/test.toml")),
-    )
-    .unwrap_or_else(|e| panic!("{e}"))
+    Scene::from_str(text, Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/scenes/test.toml")))
+        .unwrap_or_else(|e| panic!("{e}"))
 }
 
 /// Loads a shipped scene with one `[simulation]` value replaced (e.g. `dt`, `integrator`).
 pub fn shipped_with(name: &str, key: &str, value: &str) -> Scene {
-    let path = Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("scenes")
-        .join(name);
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes").join(name);
     let text = std::fs::read_to_string(&path).unwrap();
     let replaced: Vec<String> = text
         .lines()

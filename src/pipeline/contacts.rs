@@ -1,0 +1,404 @@
+//! Stages 4 and 5: every contact inside the step — with walls and between particles — is
+//! located on the particles' curved paths, resolved by the bounce rule in time order, and the
+//! rest of the step integrated from the contact point.
+//!
+//! Particles that may touch each other this step form *islands* (connected by candidate
+//! pairs); a particle alone is an island of one. Each island is resolved sequentially, event
+//! by event in time order; islands run in parallel and are written back in index order, so
+//! the result does not depend on the thread count.
+
+use super::{ContactEvent, Ctx, Flight, Motion, Other, Outcome, Segment, fly};
+use crate::contact::{PairBody, locate_on_path, pair_impact, wall_impact};
+use crate::correlations::sphere_volume;
+use crate::particles::{NO_WALL, PairContact, Particles, State};
+use crate::walls::{Crossing, Surface};
+use glam::DVec3;
+
+/// Events resolved per particle of an island in one step before the rest is left to the
+/// persistent-contact stage (only a jammed cluster with a huge step reaches it).
+const MAX_EVENTS_PER_PARTICLE: usize = 32;
+
+/// One particle's motion through the step, as events reshape it.
+pub(crate) struct Track<F> {
+    pub i: usize,
+    k: usize,
+    d: f64,
+    field: F,
+    pub seg: Segment,
+    pub end: Flight,
+    /// The wall of a held or resting particle.
+    pub wall: u32,
+    /// Release time and velocity of a hold at a wall.
+    pub release: Option<(f64, DVec3)>,
+}
+
+impl<F> Track<F> {
+    fn r(&self) -> f64 {
+        0.5 * self.d
+    }
+
+    /// Held at a wall: immobile until released.
+    fn immobile(&self) -> bool {
+        self.seg.state == State::Held && self.seg.wall != NO_WALL
+    }
+}
+
+/// What an island hands back.
+pub(crate) struct IslandResult<F> {
+    pub tracks: Vec<Track<F>>,
+    pub events: Vec<ContactEvent>,
+    pub contacts: Vec<PairContact>,
+}
+
+impl<'a, M: Motion> Ctx<'a, M> {
+    /// The track of particle `i` for the step ending at `t1`, from stage 2's results.
+    pub(crate) fn track(
+        &self,
+        p: &Particles,
+        next: (&[DVec3], &[DVec3], &[State]),
+        i: usize,
+        t0: f64,
+    ) -> Track<M::Field> {
+        let (k, d) = (p.kind[i] as usize, p.diameter[i]);
+        Track {
+            i,
+            k,
+            d,
+            field: self.field(k, d),
+            seg: Segment {
+                t: t0.max(p.release_time[i]),
+                x: p.pos[i],
+                v: p.vel[i],
+                state: p.state[i],
+                wall: p.wall[i],
+            },
+            end: Flight { x: next.0[i], v: next.1[i], state: next.2[i] },
+            wall: p.wall[i],
+            release: None,
+        }
+    }
+
+    fn at(&self, tr: &Track<M::Field>, t: f64) -> (DVec3, DVec3) {
+        let f = fly(self, &tr.field, tr.r(), &tr.seg, t - tr.seg.t);
+        (f.x, f.v)
+    }
+
+    fn restart(&self, tr: &mut Track<M::Field>, seg: Segment, t1: f64) {
+        tr.seg = seg;
+        tr.end = fly(self, &tr.field, tr.r(), &tr.seg, t1 - seg.t);
+    }
+
+    /// Inertia in the force balance (kg), ∞ for a particle held at a wall.
+    fn inertia(&self, tr: &Track<M::Field>) -> f64 {
+        if tr.immobile() { f64::INFINITY } else { self.inertia_of(tr.k, tr.d) }
+    }
+
+    /// Inertia (kg) of a particle of kind `k` and diameter `d`: `(ρp + C_M ρ) π d³/6`.
+    pub(crate) fn inertia_of(&self, k: usize, d: f64) -> f64 {
+        self.inertia_density[k] * sphere_volume(d)
+    }
+
+    /// The first wall the track's path reaches before `t1`, and when.
+    fn next_wall_event(&self, tr: &Track<M::Field>, t1: f64) -> Option<(usize, f64)> {
+        if tr.immobile() {
+            return None;
+        }
+        let (seg, r, h) = (&tr.seg, tr.r(), t1 - tr.seg.t);
+        self.walls
+            .iter()
+            .enumerate()
+            .filter(|&(w, _)| !(seg.state == State::Resting && seg.wall == w as u32))
+            .filter_map(|(w, wall)| {
+                if !wall.shape.may_touch(seg.x, tr.end.x, r) {
+                    return None;
+                }
+                let crossing = wall.shape.sweep(seg.x, tr.end.x, r)?;
+                let gap = |x: DVec3| wall.shape.gap(x, r).gap;
+                let s = locate_on_path(|s| gap(self.at(tr, seg.t + s).0), h, crossing, gap(tr.end.x), r)?;
+                Some((w, seg.t + s))
+            })
+            .min_by(|a, b| a.1.total_cmp(&b.1))
+    }
+
+    /// When the paths of `a` and `b` first bring them into contact before `t1`.
+    fn next_pair_event(&self, a: &Track<M::Field>, b: &Track<M::Field>, t1: f64) -> Option<f64> {
+        if a.immobile() && b.immobile() {
+            return None;
+        }
+        let t = a.seg.t.max(b.seg.t);
+        let reach = a.r() + b.r();
+        let p = self.at(a, t).0 - self.at(b, t).0;
+        let q = (a.end.x - b.end.x) - p;
+        let (qa, qb, qc) = (q.dot(q), p.dot(q), p.dot(p) - reach * reach);
+        let crossing = if qc <= 0.0 {
+            (qb < 0.0).then_some(Crossing { enter: 0.0, exit: 1.0 })?
+        } else {
+            let disc = qb * qb - qa * qc;
+            if qb >= 0.0 || disc < 0.0 || qa == 0.0 {
+                return None;
+            }
+            let enter = (-qb - disc.sqrt()) / qa;
+            if enter > 1.0 {
+                return None;
+            }
+            Crossing { enter, exit: ((-qb + disc.sqrt()) / qa).min(1.0) }
+        };
+        let gap = |s: f64| (self.at(a, t + s).0 - self.at(b, t + s).0).length() - reach;
+        let end_gap = (a.end.x - b.end.x).length() - reach;
+        locate_on_path(gap, t1 - t, crossing, end_gap, reach).map(|s| t + s)
+    }
+
+    /// Applies the bounce rule of PHYSICS.md §5 to `tr` hitting wall `w` at time `t`.
+    fn wall_event(
+        &self,
+        p: &Particles,
+        tr: &mut Track<M::Field>,
+        w: usize,
+        t: f64,
+        t1: f64,
+        events: &mut Vec<ContactEvent>,
+    ) {
+        let wall = &self.walls[w];
+        let (x, v) = self.at(tr, t);
+        let g = wall.shape.gap(x, tr.r());
+        let (xc, n) = (x - g.gap * g.normal, g.normal);
+        let impact = wall_impact(&self.kinds[tr.k], tr.d, &wall.material, self.fluid, self.rule, v, n);
+        events.push(ContactEvent {
+            time: t,
+            id: p.id[tr.i],
+            other: Other::Wall(w as u32),
+            normal_speed: (-v.dot(n)).max(0.0),
+            st: impact.st,
+            eps: impact.eps,
+            contact_time: impact.contact_time,
+            outcome: impact.outcome,
+        });
+        let w = w as u32;
+        let seg = match impact.outcome {
+            Outcome::Bounced => Segment { t, x: xc, v: impact.velocity, state: State::Free, wall: NO_WALL },
+            Outcome::Deposited => Segment { t, x: xc, v: impact.velocity, state: State::Resting, wall: w },
+            Outcome::Held => {
+                let t_release = t + impact.contact_time;
+                tr.release = Some((t_release, impact.velocity));
+                if t_release >= t1 {
+                    Segment { t, x: xc, v: DVec3::ZERO, state: State::Held, wall: w }
+                } else {
+                    Segment { t: t_release, x: xc, v: impact.velocity, state: State::Free, wall: NO_WALL }
+                }
+            }
+        };
+        tr.wall = seg.wall;
+        self.restart(tr, seg, t1);
+    }
+
+    /// Applies the pair rule to `a` and `b` touching at time `t`; a persistent contact (hold or
+    /// no rebound) is returned for the persistent-contact stage.
+    #[allow(clippy::too_many_arguments)]
+    fn pair_event(
+        &self,
+        p: &Particles,
+        a: &mut Track<M::Field>,
+        b: &mut Track<M::Field>,
+        t: f64,
+        t1: f64,
+        events: &mut Vec<ContactEvent>,
+    ) -> Option<PairContact> {
+        let ((xa, va), (xb, vb)) = (self.at(a, t), self.at(b, t));
+        let n = (xb - xa).normalize_or(DVec3::Z);
+        let (ma, mb) = (self.inertia(a), self.inertia(b));
+        let body = |tr: &Track<M::Field>, m: f64, v: DVec3| PairBody {
+            kind: &self.kinds[tr.k],
+            d: tr.d,
+            inertia: m,
+            v,
+        };
+        let imp = pair_impact(&body(a, ma, va), &body(b, mb, vb), n, self.fluid, self.rule);
+        // Put them exactly in contact, moving each in proportion to the other's inertia.
+        let overlap = a.r() + b.r() - (xb - xa).length();
+        let (wa, wb) = (1.0 / ma, 1.0 / mb);
+        let (xa, xb) = (xa - n * overlap * wa / (wa + wb), xb + n * overlap * wb / (wa + wb));
+        events.push(ContactEvent {
+            time: t,
+            id: p.id[a.i],
+            other: Other::Particle(p.id[b.i]),
+            normal_speed: imp.normal_speed,
+            st: imp.st,
+            eps: imp.eps,
+            contact_time: imp.contact_time,
+            outcome: imp.outcome,
+        });
+        // A particle on or held at a wall keeps that state; a free one is held with its partner.
+        let state = |tr: &Track<M::Field>| match (imp.outcome, tr.seg.state) {
+            (_, State::Resting) => State::Resting,
+            (_, State::Held) if tr.immobile() => State::Held,
+            (Outcome::Held, _) => State::Held,
+            _ => State::Free,
+        };
+        let (sa, sb) = (state(a), state(b));
+        for (tr, x, v, s) in [(&mut *a, xa, imp.va, sa), (&mut *b, xb, imp.vb, sb)] {
+            let seg = if tr.immobile() { tr.seg } else { Segment { t, x, v, state: s, wall: tr.seg.wall } };
+            self.restart(tr, seg, t1);
+        }
+        // Tracks are in index order, so `a` is the lower index and `n` points from a to b.
+        let tangential = imp.release_relative + imp.eps * imp.normal_speed * n;
+        let (ia, ib) = (a.i as u32, b.i as u32);
+        match imp.outcome {
+            Outcome::Bounced => None,
+            Outcome::Deposited => Some(PairContact::resting(ia, ib)),
+            Outcome::Held => {
+                Some(PairContact::held(ia, ib, t + imp.contact_time, imp.eps * imp.normal_speed, tangential))
+            }
+        }
+    }
+
+    /// Resolves an island: `tracks` sorted by particle index, `pairs` as positions in `tracks`.
+    pub(crate) fn resolve_island(
+        &self,
+        p: &Particles,
+        mut tracks: Vec<Track<M::Field>>,
+        pairs: &[[usize; 2]],
+        t1: f64,
+    ) -> IslandResult<M::Field> {
+        enum Next {
+            Wall(usize, usize),
+            Pair(usize),
+        }
+        let mut events = Vec::new();
+        let mut contacts: Vec<PairContact> = Vec::new();
+        let mut settled = vec![false; pairs.len()];
+        for _ in 0..MAX_EVENTS_PER_PARTICLE * tracks.len() {
+            let mut best: Option<(f64, Next)> = None;
+            let mut consider = |t: f64, next: Next| {
+                if best.as_ref().is_none_or(|(tb, _)| t < *tb) {
+                    best = Some((t, next));
+                }
+            };
+            for (k, tr) in tracks.iter().enumerate() {
+                if let Some((w, t)) = self.next_wall_event(tr, t1) {
+                    consider(t, Next::Wall(k, w));
+                }
+            }
+            for (q, &[a, b]) in pairs.iter().enumerate() {
+                if !settled[q] {
+                    if let Some(t) = self.next_pair_event(&tracks[a], &tracks[b], t1) {
+                        consider(t, Next::Pair(q));
+                    }
+                }
+            }
+            match best {
+                None => break,
+                Some((t, Next::Wall(k, w))) => self.wall_event(p, &mut tracks[k], w, t, t1, &mut events),
+                Some((t, Next::Pair(q))) => {
+                    let [a, b] = pairs[q];
+                    let (lo, hi) = tracks.split_at_mut(b);
+                    if let Some(c) = self.pair_event(p, &mut lo[a], &mut hi[0], t, t1, &mut events) {
+                        settled[q] = true;
+                        contacts.push(c);
+                    }
+                }
+            }
+        }
+        IslandResult { tracks, events, contacts }
+    }
+}
+
+/// Stages 4 and 5 for the whole step: islands from the broad phase's wall candidates and
+/// candidate pairs, resolved in parallel, written back in index order.
+pub(crate) fn run<M: Motion>(
+    ctx: &Ctx<M>,
+    p: &mut Particles,
+    t0: f64,
+    t1: f64,
+    scratch: &mut super::Scratch,
+    events: &mut Vec<ContactEvent>,
+    contacts: &mut Vec<PairContact>,
+) {
+    use rayon::prelude::*;
+    let islands = islands(&scratch.candidates, &scratch.pair_candidates);
+    let next = (&scratch.next_pos[..], &scratch.next_vel[..], &scratch.next_state[..]);
+    let results: Vec<IslandResult<M::Field>> = islands
+        .par_iter()
+        .map(|(members, pairs)| {
+            let tracks = members.iter().map(|&i| ctx.track(p, next, i, t0)).collect();
+            ctx.resolve_island(p, tracks, pairs, t1)
+        })
+        .collect();
+    for r in results {
+        for tr in r.tracks {
+            let i = tr.i;
+            scratch.next_pos[i] = tr.end.x;
+            scratch.next_vel[i] = tr.end.v;
+            scratch.next_state[i] = tr.end.state;
+            p.wall[i] = if tr.end.state == State::Free { NO_WALL } else { tr.seg.wall };
+            if let Some((t, v)) = tr.release {
+                p.release_time[i] = t;
+                p.release_vel[i] = v;
+            }
+        }
+        events.extend(r.events);
+        contacts.extend(r.contacts);
+    }
+}
+
+type Island = (Vec<usize>, Vec<[usize; 2]>);
+
+/// Groups particles connected by candidate pairs (union–find); every wall candidate outside a
+/// pair is an island of one. Islands come in order of their lowest particle index, members in
+/// index order, pairs as positions among the members (lower first).
+fn islands(wall_candidates: &[u32], pairs: &[[u32; 2]]) -> Vec<Island> {
+    use std::collections::HashMap;
+    let mut parent: HashMap<u32, u32> = HashMap::new();
+    fn root(parent: &mut HashMap<u32, u32>, i: u32) -> u32 {
+        let mut r = i;
+        while let Some(&up) = parent.get(&r) {
+            if up == r {
+                break;
+            }
+            r = up;
+        }
+        parent.insert(i, r);
+        r
+    }
+    for &[a, b] in pairs {
+        parent.entry(a).or_insert(a);
+        parent.entry(b).or_insert(b);
+        let (ra, rb) = (root(&mut parent, a), root(&mut parent, b));
+        if ra != rb {
+            parent.insert(ra.max(rb), ra.min(rb));
+        }
+    }
+    let mut groups: HashMap<u32, Vec<usize>> = HashMap::new();
+    let members: Vec<u32> = parent.keys().copied().collect();
+    for i in members {
+        let r = root(&mut parent, i);
+        groups.entry(r).or_default().push(i as usize);
+    }
+    let mut out: Vec<Island> = groups
+        .into_values()
+        .map(|mut m| {
+            m.sort_unstable();
+            (m, Vec::new())
+        })
+        .collect();
+    out.sort_unstable_by_key(|(m, _)| m[0]);
+    let mut island_of: HashMap<usize, usize> = HashMap::new();
+    for (k, (m, _)) in out.iter().enumerate() {
+        for &i in m {
+            island_of.insert(i, k);
+        }
+    }
+    for &[a, b] in pairs {
+        let k = island_of[&(a as usize)];
+        let m = &out[k].0;
+        let pos = |i: u32| m.binary_search(&(i as usize)).expect("member");
+        let local = [pos(a), pos(b)];
+        out[k].1.push(local);
+    }
+    for &i in wall_candidates {
+        if !island_of.contains_key(&(i as usize)) {
+            out.push((vec![i as usize], Vec::new()));
+        }
+    }
+    out.sort_unstable_by_key(|(m, _)| m[0]);
+    out
+}

@@ -1,0 +1,133 @@
+//! Stage 5b: lasting contacts between particles **[ext]** (PHYSICS.md §5, pairs): a held pair
+//! moves together at its centre-of-mass velocity; a pair that met below `St_c` may not
+//! approach again. Both are kept by projection, Gauss–Seidel over the contacts in index order
+//! (deterministic), with the walls the particles touch.
+
+use super::{Ctx, Motion, Scratch};
+use crate::particles::{NO_WALL, PairContact, Particles, State};
+use crate::walls::Surface;
+use glam::DVec3;
+
+/// Gap beyond which a resting pair has separated (relative to the sum of radii): hysteresis,
+/// so that neighbours at rest do not break and re-make their contact every step.
+const SEPARATED: f64 = 1e-3;
+/// Projection sweeps per step, at most; they stop early once every contact holds to
+/// `TOLERANCE` of the sum of radii.
+const SWEEPS: usize = 50;
+const TOLERANCE: f64 = 1e-6;
+
+/// Keeps every lasting contact at the end of the step (positions and velocities in `scratch`).
+pub(crate) fn run<M: Motion>(
+    ctx: &Ctx<M>,
+    p: &Particles,
+    scratch: &mut Scratch,
+    contacts: &mut Vec<PairContact>,
+) {
+    if contacts.is_empty() {
+        return;
+    }
+    let (x, v, state) = (&mut scratch.next_pos, &mut scratch.next_vel, &scratch.next_state);
+    let reach = |c: &PairContact| 0.5 * (p.diameter[c.a as usize] + p.diameter[c.b as usize]);
+    contacts.retain(|c| {
+        c.hold.is_some() || (x[c.b as usize] - x[c.a as usize]).length() < reach(c) * (1.0 + SEPARATED)
+    });
+    // Inverse inertia; 0 for a particle held at a wall (immobile).
+    let w = |i: usize| {
+        if state[i] == State::Held && p.wall[i] != NO_WALL {
+            0.0
+        } else {
+            1.0 / ctx.inertia_of(p.kind[i] as usize, p.diameter[i])
+        }
+    };
+    let mut involved: Vec<usize> = contacts.iter().flat_map(|c| [c.a as usize, c.b as usize]).collect();
+    involved.sort_unstable();
+    involved.dedup();
+    for _ in 0..SWEEPS {
+        let mut worst: f64 = 0.0;
+        for c in contacts.iter() {
+            let (a, b) = (c.a as usize, c.b as usize);
+            let (wa, wb) = (w(a), w(b));
+            if wa + wb == 0.0 {
+                continue;
+            }
+            let r = reach(c);
+            let delta = x[b] - x[a];
+            let dist = delta.length();
+            let n = if dist > 0.0 { delta / dist } else { DVec3::Z };
+            let error = dist - r;
+            // A hold is a bond (both ways); a resting contact only pushes apart.
+            let push = if c.hold.is_some() { error } else { error.min(0.0) };
+            if push != 0.0 {
+                worst = worst.max(push.abs() / r);
+                x[a] += n * push * wa / (wa + wb);
+                x[b] -= n * push * wb / (wa + wb);
+            }
+            let u = v[b] - v[a];
+            let j = if c.hold.is_some() { u } else { u.dot(n).min(0.0) * n };
+            v[a] += j * wa / (wa + wb);
+            v[b] -= j * wb / (wa + wb);
+        }
+        // Walls: no overlap, no approach.
+        for &i in &involved {
+            if w(i) == 0.0 {
+                continue;
+            }
+            let r = 0.5 * p.diameter[i];
+            for wall in ctx.walls {
+                let g = wall.shape.gap(x[i], r);
+                if g.gap < 0.0 {
+                    worst = worst.max(-g.gap / r);
+                    x[i] -= g.gap * g.normal;
+                    let vn = v[i].dot(g.normal);
+                    if vn < 0.0 {
+                        v[i] -= vn * g.normal;
+                    }
+                }
+            }
+        }
+        if worst < TOLERANCE {
+            break;
+        }
+    }
+}
+
+/// Stage 1 for pairs: a held pair whose hold ends before `t1` gets its release velocities
+/// (relative normal speed `ε Vn` apart, tangential `e_t` times that at impact, momentum
+/// conserved); its particles are free again unless still held by another pair.
+pub(crate) fn release<M: Motion>(ctx: &Ctx<M>, p: &mut Particles, contacts: &mut Vec<PairContact>, t1: f64) {
+    let mut released = Vec::new();
+    contacts.retain(|c| match c.hold {
+        Some(h) if h.release_time < t1 => {
+            released.push(*c);
+            false
+        }
+        _ => true,
+    });
+    for c in released {
+        let hold = c.hold.expect("held");
+        let (a, b) = (c.a as usize, c.b as usize);
+        let inertia = |i: usize| {
+            if p.state[i] == State::Held && p.wall[i] != NO_WALL {
+                f64::INFINITY
+            } else {
+                ctx.inertia_of(p.kind[i] as usize, p.diameter[i])
+            }
+        };
+        let (wa, wb) = (1.0 / inertia(a), 1.0 / inertia(b));
+        if wa + wb == 0.0 {
+            continue;
+        }
+        let n = (p.pos[b] - p.pos[a]).normalize_or(DVec3::Z);
+        let target = -hold.normal_speed * n + hold.tangential - hold.tangential.dot(n) * n;
+        let j = (target - (p.vel[a] - p.vel[b])) / (wa + wb);
+        p.vel[a] += wa * j;
+        p.vel[b] -= wb * j;
+        for i in [a, b] {
+            let still_held =
+                contacts.iter().any(|o| o.hold.is_some() && (o.a as usize == i || o.b as usize == i));
+            if p.state[i] == State::Held && p.wall[i] == NO_WALL && !still_held {
+                p.state[i] = State::Free;
+            }
+        }
+    }
+}
