@@ -1,13 +1,15 @@
 //! The `wetbounce` command line: `run` a scene, or `check` it.
 
-use clap::{Parser, Subcommand};
+use clap::{Parser, Subcommand, ValueEnum};
 use std::fmt::Write as _;
 use std::io::Write as _;
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
-use std::sync::atomic::AtomicBool;
-use wetbounce::output::{EventCsv, Sink, Statistics, TrajectoryCsv};
-use wetbounce::particles::State;
+use std::sync::Arc;
+use std::sync::atomic::{AtomicBool, Ordering};
+use wetbounce::output::{
+    EventCsv, McapOptions, McapSink, Progress, RunSummary, Sink, Statistics, TrajectoryCsv,
+};
 use wetbounce::pipeline::run::run;
 use wetbounce::scene::{Scene, kind_reports};
 
@@ -19,19 +21,55 @@ struct Cli {
     command: Command,
 }
 
+/// An output file format of `run`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+enum Format {
+    /// DIR/<scene>.mcap: Foxglove's schemas, opens in Foxglove and rerun.
+    Mcap,
+    /// DIR/trajectories.csv and DIR/events.csv.
+    Csv,
+    /// DIR/<scene>.rrd: rerun's native recording (needs the `rerun` cargo feature).
+    Rrd,
+}
+
+/// The formats written when `--formats` is not given: the MCAP, and the rerun recording when
+/// this build can write it.
+fn default_formats() -> Vec<Format> {
+    if cfg!(feature = "rerun") { vec![Format::Mcap, Format::Rrd] } else { vec![Format::Mcap] }
+}
+
+/// The options of `run`.
+#[derive(clap::Args)]
+struct RunArgs {
+    /// The scene file (TOML).
+    scene: PathBuf,
+    /// Output folder [default: out/<scene file stem>/].
+    #[arg(long)]
+    out: Option<PathBuf>,
+    /// Worker threads [default: all cores]. Results do not depend on it.
+    #[arg(long, value_parser = clap::value_parser!(u16).range(1..))]
+    threads: Option<u16>,
+    /// Files to write, comma-separated: mcap, csv, rrd [default: mcap, and rrd in a build with
+    /// the `rerun` feature].
+    #[arg(long, value_delimiter = ',', num_args = 1..)]
+    formats: Option<Vec<Format>>,
+    /// Simulated time between output frames (s) [default: the scene's
+    /// simulation.output_interval]. Independent of the time step.
+    #[arg(long, value_name = "SECONDS")]
+    output_interval: Option<f64>,
+    /// In the MCAP, draw particles as spheres on /scene only up to this many particles (the
+    /// point cloud on /particles always has them all).
+    #[arg(long, default_value_t = 1000, value_name = "N")]
+    max_spheres: usize,
+    /// No progress bar (it is also hidden when standard error is not a terminal).
+    #[arg(long, short)]
+    quiet: bool,
+}
+
 #[derive(Subcommand)]
 enum Command {
-    /// Run a scene; writes DIR/trajectories.csv and DIR/events.csv.
-    Run {
-        /// The scene file (TOML).
-        scene: PathBuf,
-        /// Output folder [default: out/<scene file stem>/].
-        #[arg(long)]
-        out: Option<PathBuf>,
-        /// Worker threads [default: all cores]. Results do not depend on it.
-        #[arg(long, value_parser = clap::value_parser!(u16).range(1..))]
-        threads: Option<u16>,
-    },
+    /// Run a scene; writes DIR/<scene>.mcap (and, on request, CSV files and a rerun recording).
+    Run(RunArgs),
     /// Validate a scene and print each particle kind's time scales and bounce regime.
     Check {
         /// The scene file (TOML).
@@ -39,29 +77,25 @@ enum Command {
     },
 }
 
+/// Exit status of a run stopped by Ctrl-C: 128 + SIGINT, as shells report it.
+const INTERRUPTED: u8 = 130;
+
 fn main() -> ExitCode {
     let cli = Cli::parse();
     let result = match cli.command {
-        Command::Run {
-            scene,
-            out,
-            threads,
-        } => run_scene(&scene, out, threads),
-        Command::Check { scene } => check_scene(&scene),
+        Command::Run(args) => run_scene(&args),
+        Command::Check { scene } => check_scene(&scene).map(|text| (text, ExitCode::SUCCESS)),
     };
     match result {
-        Ok(text) => {
+        Ok((text, code)) => {
             // Reading only the head of the output (`| head`) closes the pipe: not an error.
             let mut stdout = std::io::stdout().lock();
-            match stdout
-                .write_all(text.as_bytes())
-                .and_then(|()| stdout.flush())
-            {
+            match stdout.write_all(text.as_bytes()).and_then(|()| stdout.flush()) {
                 Err(e) if e.kind() != std::io::ErrorKind::BrokenPipe => {
                     eprintln!("error: cannot write to standard output: {e}");
                     ExitCode::FAILURE
                 }
-                _ => ExitCode::SUCCESS,
+                _ => code,
             }
         }
         Err(message) => {
@@ -71,73 +105,106 @@ fn main() -> ExitCode {
     }
 }
 
-fn run_scene(path: &Path, out: Option<PathBuf>, threads: Option<u16>) -> Result<String, String> {
+fn run_scene(args: &RunArgs) -> Result<(String, ExitCode), String> {
+    let path = args.scene.as_path();
     let mut text = String::new();
-    if let Some(n) = threads {
+    if let Some(n) = args.threads {
         rayon::ThreadPoolBuilder::new()
             .num_threads(n as usize)
             .build_global()
             .map_err(|e| format!("--threads {n}: {e}"))?;
     }
+    let formats = args.formats.clone().unwrap_or_else(default_formats);
+    if formats.contains(&Format::Rrd) && !cfg!(feature = "rerun") {
+        return Err("--formats rrd: this wetbounce was built without the `rerun` feature; \
+                    rebuild with `cargo build --release --features rerun`, or open the .mcap in rerun"
+            .into());
+    }
     let scene = Scene::load(path).map_err(|e| e.to_string())?;
-    let out = out.unwrap_or_else(|| {
-        let stem = path
-            .file_stem()
-            .map_or("scene".into(), |s| s.to_string_lossy().into_owned());
-        Path::new("out").join(stem)
-    });
+    let output_interval = match args.output_interval {
+        None => scene.output_interval,
+        Some(s) if s.is_finite() && s > 0.0 => s,
+        Some(s) => return Err(format!("--output-interval: must be a finite time > 0 s, got {s}")),
+    };
+    let stem = path.file_stem().map_or("scene".into(), |s| s.to_string_lossy().into_owned());
+    let out = args.out.clone().unwrap_or_else(|| Path::new("out").join(&stem));
     std::fs::create_dir_all(&out)
         .map_err(|e| format!("{}: cannot create the output folder: {e}", out.display()))?;
-    let mut trajectories =
-        TrajectoryCsv::create(out.join("trajectories.csv")).map_err(|e| e.to_string())?;
-    let mut events = EventCsv::create(out.join("events.csv")).map_err(|e| e.to_string())?;
-    let mut stats = Statistics::default();
-    let mut sim = scene.simulation();
-    let stop = AtomicBool::new(false);
-    let report = {
-        let mut sinks: [&mut dyn Sink; 3] = [&mut trajectories, &mut events, &mut stats];
-        run(
-            &mut sim,
-            scene.duration,
-            scene.output_interval,
-            &mut sinks,
-            &stop,
-        )
-        .map_err(|e| e.to_string())?
-    };
-    let count = |s: State| sim.particles.state.iter().filter(|&&x| x == s).count();
-    let _ = writeln!(
-        text,
-        "{}: {:.6} s simulated in {} steps, {:.3} s wall time ({} particles, {} integrator)",
-        path.display(),
-        report.time,
-        report.steps,
-        report.wall_time.as_secs_f64(),
-        sim.particles.len(),
-        scene.integrator.name()
-    );
-    let _ = writeln!(text, "{stats}");
-    let _ = writeln!(
-        text,
-        "at the end: {} free, {} held, {} resting; {} lost to non-finite state",
-        count(State::Free),
-        count(State::Held),
-        count(State::Resting),
-        sim.lost.len()
-    );
-    for lost in &sim.lost {
-        eprintln!(
-            "warning: particle {} became non-finite at t = {} s and was removed",
-            lost.id, lost.time
-        );
+
+    // Every sink is created before the run starts, so a bad output folder fails fast.
+    let mut written: Vec<PathBuf> = Vec::new();
+    let mut sinks: Vec<Box<dyn Sink>> = Vec::new();
+    if formats.contains(&Format::Mcap) {
+        let file = out.join(format!("{stem}.mcap"));
+        let options = McapOptions {
+            max_spheres: args.max_spheres,
+            scene_path: path.display().to_string(),
+            scene_source: scene.source.clone(),
+        };
+        sinks.push(Box::new(McapSink::create(&file, options).map_err(|e| e.to_string())?));
+        written.push(file);
     }
+    if formats.contains(&Format::Csv) {
+        let (t, e) = (out.join("trajectories.csv"), out.join("events.csv"));
+        sinks.push(Box::new(TrajectoryCsv::create(&t).map_err(|e| e.to_string())?));
+        sinks.push(Box::new(EventCsv::create(&e).map_err(|e| e.to_string())?));
+        written.extend([t, e]);
+    }
+    #[cfg(feature = "rerun")]
+    if formats.contains(&Format::Rrd) {
+        let file = out.join(format!("{stem}.rrd"));
+        sinks.push(Box::new(
+            wetbounce::output::RerunSink::create(&file, &stem, &scene.source).map_err(|e| e.to_string())?,
+        ));
+        written.push(file);
+    }
+    let mut stats = Statistics::default();
+    let mut progress = Progress::new(scene.duration, args.quiet);
+
+    // Ctrl-C asks the run to stop after the current step, so every file is closed properly;
+    // a second Ctrl-C gives up at once.
+    let stop = Arc::new(AtomicBool::new(false));
+    {
+        let stop = stop.clone();
+        ctrlc::set_handler(move || {
+            if stop.swap(true, Ordering::SeqCst) {
+                std::process::exit(INTERRUPTED.into());
+            }
+        })
+        .map_err(|e| format!("cannot install the Ctrl-C handler: {e}"))?;
+    }
+
+    let mut sim = scene.simulation();
+    let report = {
+        let mut all: Vec<&mut dyn Sink> = sinks.iter_mut().map(|s| s.as_mut() as &mut dyn Sink).collect();
+        all.push(&mut stats);
+        all.push(&mut progress);
+        run(&mut sim, scene.duration, output_interval, &mut all, &stop).map_err(|e| e.to_string())?
+    };
+    let summary = RunSummary::new(&sim, &report, &stats);
     let _ = writeln!(
         text,
-        "wrote {} and {}",
-        out.join("trajectories.csv").display(),
-        out.join("events.csv").display()
+        "{}: {} particles, {} integrator, dt = {} s",
+        path.display(),
+        summary.alive + summary.removed(),
+        scene.integrator.name(),
+        scene.dt
     );
-    Ok(text)
+    let _ = writeln!(text, "{summary}");
+    for lost in &sim.lost {
+        eprintln!("warning: particle {} became non-finite at t = {} s and was removed", lost.id, lost.time);
+    }
+    let names: Vec<String> = written.iter().map(|p| p.display().to_string()).collect();
+    let _ = writeln!(text, "wrote {}", names.join(", "));
+    if report.interrupted {
+        eprintln!(
+            "interrupted: stopped at t = {:.6} s of {} s after {} steps; the outputs hold everything up \
+             to that time",
+            report.time, scene.duration, report.steps
+        );
+        return Ok((text, ExitCode::from(INTERRUPTED)));
+    }
+    Ok((text, ExitCode::SUCCESS))
 }
 
 fn check_scene(path: &Path) -> Result<String, String> {
@@ -169,11 +236,7 @@ fn check_scene(path: &Path) -> Result<String, String> {
     );
     // In vacuum or without drag some time scales do not exist: print "-".
     let num = |v: f64, prec: usize| {
-        if v.is_finite() {
-            format!("{v:.prec$}")
-        } else {
-            "-".into()
-        }
+        if v.is_finite() { format!("{v:.prec$}") } else { "-".into() }
     };
     for r in kind_reports(&scene) {
         let _ = writeln!(
@@ -193,11 +256,7 @@ fn check_scene(path: &Path) -> Result<String, String> {
         );
     }
     if let Some(wall) = scene.walls.first() {
-        let _ = writeln!(
-            text,
-            "  (impact at terminal velocity on wall \"{}\")",
-            wall.name
-        );
+        let _ = writeln!(text, "  (impact at terminal velocity on wall \"{}\")", wall.name);
     }
     Ok(text)
 }

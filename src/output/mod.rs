@@ -2,13 +2,29 @@
 //!
 //! - [`TrajectoryCsv`]: `trajectories.csv`, one row per particle per output frame;
 //! - [`EventCsv`]: `events.csv`, one row per contact;
-//! - [`Statistics`]: counts and means for the end-of-run summary.
+//! - [`Statistics`]: counts and means for the end-of-run summary;
+//! - [`McapSink`]: `<scene>.mcap` for Foxglove and rerun (`/particles`, `/scene`, `/events`);
+//! - [`RerunSink`] (feature `rerun`): `<scene>.rrd`, rerun's native recording;
+//! - [`Progress`]: the progress bar on standard error.
+//!
+//! [`RunSummary`] is the table printed at the end of a run.
 
 mod csv_files;
+pub mod geometry;
+pub mod mcap;
+mod progress;
+#[cfg(feature = "rerun")]
+pub mod rerun;
 mod statistics;
+mod summary;
 
 pub use csv_files::{EventCsv, TrajectoryCsv};
+pub use mcap::{McapOptions, McapSink};
+pub use progress::Progress;
+#[cfg(feature = "rerun")]
+pub use rerun::RerunSink;
 pub use statistics::Statistics;
+pub use summary::RunSummary;
 
 use crate::pipeline::{ContactEvent, Simulation};
 use std::path::PathBuf;
@@ -26,10 +42,7 @@ pub struct OutputError {
 impl OutputError {
     /// An error writing `path`.
     pub fn new(path: impl Into<PathBuf>, e: impl std::fmt::Display) -> Self {
-        OutputError {
-            path: path.into(),
-            message: e.to_string(),
-        }
+        OutputError { path: path.into(), message: e.to_string() }
     }
 }
 
@@ -37,6 +50,10 @@ impl OutputError {
 pub trait Sink {
     /// A frame at the simulation's current time (called at t = 0 and every output interval).
     fn frame(&mut self, _sim: &Simulation) -> Result<(), OutputError> {
+        Ok(())
+    }
+    /// A step is over (the progress bar); called after every step, so keep it cheap.
+    fn step(&mut self, _sim: &Simulation) -> Result<(), OutputError> {
         Ok(())
     }
     /// Contact events since the last call, in time order per particle.

@@ -1,0 +1,348 @@
+//! The MCAP sink: one file that Foxglove opens as it is, and rerun reads the points of.
+//!
+//! Channels (log time = simulated time in nanoseconds from 0):
+//! - `/particles`: `foxglove.PointCloud` per frame, fields `x y z` (float64, m), `id` (uint32),
+//!   `diameter` (float64, m), `speed` (float64, m/s), `state` (uint8: 0 free, 1 held,
+//!   2 resting), `kind` (uint16, index into the scene's kinds);
+//! - `/scene`: `foxglove.SceneUpdate` — entity `walls` once at t = 0, and entity `particles`
+//!   (spheres at true diameter coloured by state) per frame while the particle count is at
+//!   most [`McapOptions::max_spheres`];
+//! - `/events`: JSON (`jsonschema`), one message per contact with the columns of `events.csv`.
+//!
+//! Metadata records `scene` (`path`, `source`: the scene file's text) and `wetbounce`
+//! (`version`), so every result carries its inputs.
+
+use super::geometry::{self, Solid, WALL_COLOR};
+use super::{OutputError, Sink};
+use crate::pipeline::{ContactEvent, Other, Simulation};
+use foxglove::messages::packed_element_field::NumericType;
+use foxglove::messages::{
+    Color, CubePrimitive, CylinderPrimitive, PackedElementField, Point3, PointCloud, Pose, Quaternion,
+    SceneEntity, SceneUpdate, SpherePrimitive, Timestamp, TriangleListPrimitive, Vector3,
+};
+use foxglove::{
+    Channel, ChannelBuilder, Context, McapCompression, McapWriteOptions, McapWriter, McapWriterHandle,
+    PartialMetadata, RawChannel, Schema,
+};
+use glam::{DQuat, DVec3};
+use std::collections::BTreeMap;
+use std::fs::File;
+use std::io::BufWriter;
+use std::path::PathBuf;
+use std::sync::Arc;
+
+/// Topic of the point clouds.
+pub const PARTICLES_TOPIC: &str = "/particles";
+/// Topic of the scene updates (walls, spheres).
+pub const SCENE_TOPIC: &str = "/scene";
+/// Topic of the contact events.
+pub const EVENTS_TOPIC: &str = "/events";
+/// The frame every message is expressed in.
+pub const FRAME_ID: &str = "world";
+
+/// Bytes per point of `/particles`: x, y, z, id, diameter, speed, state, kind.
+const POINT_STRIDE: u32 = 8 * 3 + 4 + 8 + 8 + 1 + 2;
+
+/// JSON schema of an `/events` message: the columns of `events.csv`. Non-finite numbers (an
+/// infinite St in vacuum) are written as `null`, which JSON needs.
+const EVENT_SCHEMA: &str = r#"{
+  "title": "wetbounce.ContactEvent",
+  "description": "One contact: the columns of events.csv",
+  "type": "object",
+  "properties": {
+    "t": {"type": "number", "description": "impact time (s)"},
+    "id": {"type": "integer", "description": "particle id"},
+    "other": {"type": "string", "description": "wall name or other particle's id"},
+    "kind": {"type": "string", "enum": ["wall", "particle"]},
+    "normal_speed": {"type": ["number", "null"], "description": "V_inf (m/s)"},
+    "st": {"type": ["number", "null"], "description": "Stokes number"},
+    "eps": {"type": ["number", "null"], "description": "restitution applied"},
+    "contact_time": {"type": ["number", "null"], "description": "t_c (s)"},
+    "outcome": {"type": "string", "enum": ["held", "bounced", "deposited"]}
+  },
+  "required": ["t", "id", "other", "kind", "normal_speed", "st", "eps", "contact_time", "outcome"]
+}"#;
+
+/// Settings of the MCAP sink.
+#[derive(Debug, Clone)]
+pub struct McapOptions {
+    /// Draw spheres on `/scene` only while there are at most this many particles: beyond
+    /// that the point cloud carries the particles and the file stays small.
+    pub max_spheres: usize,
+    /// Path of the scene file, recorded as metadata.
+    pub scene_path: String,
+    /// The scene file's text, recorded as metadata.
+    pub scene_source: String,
+}
+
+/// Writes `/particles`, `/scene` and `/events` to an MCAP file (zstd chunks).
+pub struct McapSink {
+    path: PathBuf,
+    options: McapOptions,
+    // Channels hold only a weak reference to their context: the sink keeps it alive.
+    _ctx: Arc<Context>,
+    // Dropping the handle would also close the file; `finish` closes it to see the error.
+    writer: Option<McapWriterHandle<BufWriter<File>>>,
+    particles: Channel<PointCloud>,
+    scene: Channel<SceneUpdate>,
+    events: Arc<RawChannel>,
+    walls_written: bool,
+    spheres_shown: bool,
+    json: Vec<u8>,
+    order: Vec<usize>,
+}
+
+/// Simulated time as MCAP log time (ns from 0); the ns are rounded so that frames at exact
+/// multiples of the output interval get exact stamps.
+pub fn log_time_ns(t: f64) -> u64 {
+    (t.max(0.0) * 1e9).round() as u64
+}
+
+fn stamp(t: f64) -> Timestamp {
+    let ns = log_time_ns(t);
+    Timestamp::new((ns / 1_000_000_000) as u32, (ns % 1_000_000_000) as u32)
+}
+
+fn vec3(v: DVec3) -> Vector3 {
+    Vector3 { x: v.x, y: v.y, z: v.z }
+}
+
+fn pose(center: DVec3, rotation: DQuat) -> Pose {
+    Pose {
+        position: Some(vec3(center)),
+        orientation: Some(Quaternion { x: rotation.x, y: rotation.y, z: rotation.z, w: rotation.w }),
+    }
+}
+
+fn color([r, g, b, a]: [f32; 4]) -> Color {
+    Color { r: r.into(), g: g.into(), b: b.into(), a: a.into() }
+}
+
+fn field(name: &str, offset: u32, ty: NumericType) -> PackedElementField {
+    PackedElementField { name: name.into(), offset, r#type: ty as i32 }
+}
+
+impl McapSink {
+    /// Creates the file at `path` and writes the metadata.
+    pub fn create(path: impl Into<PathBuf>, options: McapOptions) -> Result<Self, OutputError> {
+        let path = path.into();
+        let err = |e: &dyn std::fmt::Display| OutputError::new(&path, e);
+        let file = File::create(&path).map_err(|e| err(&e))?;
+        // A context of its own: the default one is global, and two runs in one process (the
+        // tests) must not write into each other's files.
+        let ctx = Context::new();
+        let write_options = McapWriteOptions::new().compression(Some(McapCompression::Zstd));
+        let writer = McapWriter::with_options(write_options)
+            .context(&ctx)
+            .create(BufWriter::new(file))
+            .map_err(|e| err(&e))?;
+        let metadata = |pairs: &[(&str, &str)]| -> BTreeMap<String, String> {
+            pairs.iter().map(|(k, v)| (k.to_string(), v.to_string())).collect()
+        };
+        writer
+            .write_metadata(
+                "scene",
+                metadata(&[("path", &options.scene_path), ("source", &options.scene_source)]),
+            )
+            .map_err(|e| err(&e))?;
+        writer
+            .write_metadata("wetbounce", metadata(&[("version", env!("CARGO_PKG_VERSION"))]))
+            .map_err(|e| err(&e))?;
+        let particles = ChannelBuilder::new(PARTICLES_TOPIC).context(&ctx).build::<PointCloud>();
+        let scene = ChannelBuilder::new(SCENE_TOPIC).context(&ctx).build::<SceneUpdate>();
+        let events = ChannelBuilder::new(EVENTS_TOPIC)
+            .context(&ctx)
+            .message_encoding("json")
+            .schema(Schema::new("wetbounce.ContactEvent", "jsonschema", EVENT_SCHEMA.as_bytes().to_vec()))
+            .build_raw()
+            .map_err(|e| err(&e))?;
+        Ok(McapSink {
+            path,
+            options,
+            _ctx: ctx,
+            writer: Some(writer),
+            particles,
+            scene,
+            events,
+            walls_written: false,
+            spheres_shown: false,
+            json: Vec::new(),
+            order: Vec::new(),
+        })
+    }
+
+    fn write_walls(&mut self, sim: &Simulation) {
+        let mut entity = SceneEntity {
+            timestamp: Some(stamp(sim.time)),
+            frame_id: FRAME_ID.into(),
+            id: "walls".into(),
+            frame_locked: true,
+            ..Default::default()
+        };
+        for w in geometry::wall_solids(sim) {
+            match w.solid {
+                Solid::Cuboid { center, size, rotation } => entity.cubes.push(CubePrimitive {
+                    pose: Some(pose(center, rotation)),
+                    size: Some(vec3(size)),
+                    color: Some(color(WALL_COLOR)),
+                }),
+                Solid::Cylinder { center, radius, length, rotation } => {
+                    entity.cylinders.push(CylinderPrimitive {
+                        pose: Some(pose(center, rotation)),
+                        size: Some(vec3(DVec3::new(2.0 * radius, 2.0 * radius, length))),
+                        bottom_scale: 1.0,
+                        top_scale: 1.0,
+                        color: Some(color(WALL_COLOR)),
+                    })
+                }
+                Solid::Triangles { vertices, indices } => entity.triangles.push(TriangleListPrimitive {
+                    pose: Some(pose(DVec3::ZERO, DQuat::IDENTITY)),
+                    points: vertices.iter().map(|v| Point3 { x: v.x, y: v.y, z: v.z }).collect(),
+                    color: Some(color(WALL_COLOR)),
+                    colors: Vec::new(),
+                    indices: indices.iter().flatten().copied().collect(),
+                }),
+            }
+        }
+        self.scene.log_with_time(
+            &SceneUpdate { deletions: Vec::new(), entities: vec![entity] },
+            log_time_ns(sim.time),
+        );
+    }
+
+    fn write_points(&self, sim: &Simulation) {
+        let p = &sim.particles;
+        let mut data = Vec::with_capacity(p.len() * POINT_STRIDE as usize);
+        for i in 0..p.len() {
+            let x = p.pos[i];
+            data.extend_from_slice(&x.x.to_le_bytes());
+            data.extend_from_slice(&x.y.to_le_bytes());
+            data.extend_from_slice(&x.z.to_le_bytes());
+            data.extend_from_slice(&p.id[i].to_le_bytes());
+            data.extend_from_slice(&p.diameter[i].to_le_bytes());
+            data.extend_from_slice(&p.vel[i].length().to_le_bytes());
+            data.push(p.state[i] as u8);
+            data.extend_from_slice(&p.kind[i].to_le_bytes());
+        }
+        let cloud = PointCloud {
+            timestamp: Some(stamp(sim.time)),
+            frame_id: FRAME_ID.into(),
+            pose: Some(pose(DVec3::ZERO, DQuat::IDENTITY)),
+            point_stride: POINT_STRIDE,
+            fields: vec![
+                field("x", 0, NumericType::Float64),
+                field("y", 8, NumericType::Float64),
+                field("z", 16, NumericType::Float64),
+                field("id", 24, NumericType::Uint32),
+                field("diameter", 28, NumericType::Float64),
+                field("speed", 36, NumericType::Float64),
+                field("state", 44, NumericType::Uint8),
+                field("kind", 45, NumericType::Uint16),
+            ],
+            data: data.into(),
+        };
+        self.particles.log_with_time(&cloud, log_time_ns(sim.time));
+    }
+
+    fn write_spheres(&mut self, sim: &Simulation) {
+        let p = &sim.particles;
+        let show = p.len() <= self.options.max_spheres;
+        if !show && !self.spheres_shown {
+            return;
+        }
+        let mut entity = SceneEntity {
+            timestamp: Some(stamp(sim.time)),
+            frame_id: FRAME_ID.into(),
+            id: "particles".into(),
+            frame_locked: true,
+            ..Default::default()
+        };
+        // Past the limit the entity is replaced by an empty one, so no stale spheres linger.
+        if show {
+            entity.spheres = (0..p.len())
+                .map(|i| SpherePrimitive {
+                    pose: Some(pose(p.pos[i], DQuat::IDENTITY)),
+                    size: Some(vec3(DVec3::splat(p.diameter[i]))),
+                    color: Some(color(geometry::state_color(p.state[i]))),
+                })
+                .collect();
+        }
+        self.spheres_shown = show;
+        self.scene.log_with_time(
+            &SceneUpdate { deletions: Vec::new(), entities: vec![entity] },
+            log_time_ns(sim.time),
+        );
+    }
+}
+
+/// An `/events` message: the columns of `events.csv`, in its order.
+#[derive(serde::Serialize)]
+struct EventMessage<'a> {
+    t: Option<f64>,
+    id: u32,
+    other: String,
+    kind: &'a str,
+    normal_speed: Option<f64>,
+    st: Option<f64>,
+    eps: Option<f64>,
+    contact_time: Option<f64>,
+    outcome: &'a str,
+}
+
+/// A number, or `null` for a non-finite one (JSON has no infinity).
+fn number(x: f64) -> Option<f64> {
+    x.is_finite().then_some(x)
+}
+
+impl Sink for McapSink {
+    fn frame(&mut self, sim: &Simulation) -> Result<(), OutputError> {
+        if !self.walls_written {
+            self.write_walls(sim);
+            self.walls_written = true;
+        }
+        self.write_points(sim);
+        self.write_spheres(sim);
+        Ok(())
+    }
+
+    fn events(&mut self, sim: &Simulation, events: &[ContactEvent]) -> Result<(), OutputError> {
+        // Events arrive in time order per particle only; a viewer wants one time order.
+        self.order.clear();
+        self.order.extend(0..events.len());
+        self.order.sort_by(|&a, &b| events[a].time.total_cmp(&events[b].time));
+        for &k in &self.order {
+            let e = &events[k];
+            let (other, kind) = match e.other {
+                Other::Wall(w) => (sim.walls[w as usize].name.clone(), "wall"),
+                Other::Particle(id) => (id.to_string(), "particle"),
+            };
+            let message = EventMessage {
+                t: number(e.time),
+                id: e.id,
+                other,
+                kind,
+                normal_speed: number(e.normal_speed),
+                st: number(e.st),
+                eps: number(e.eps),
+                contact_time: number(e.contact_time),
+                outcome: e.outcome.name(),
+            };
+            self.json.clear();
+            serde_json::to_writer(&mut self.json, &message)
+                .map_err(|err| OutputError::new(&self.path, err))?;
+            self.events.log_with_meta(&self.json, PartialMetadata::with_log_time(log_time_ns(e.time)));
+        }
+        Ok(())
+    }
+
+    fn finish(&mut self) -> Result<(), OutputError> {
+        match self.writer.take() {
+            Some(w) => {
+                let buffered = w.close().map_err(|e| OutputError::new(&self.path, e))?;
+                // `into_inner` flushes and reports what a drop would swallow.
+                buffered.into_inner().map(drop).map_err(|e| OutputError::new(&self.path, e.error()))
+            }
+            None => Ok(()),
+        }
+    }
+}
