@@ -252,6 +252,10 @@ impl<'a, M: Motion> Ctx<'a, M> {
     }
 
     /// Resolves an island: `tracks` sorted by particle index, `pairs` as positions in `tracks`.
+    ///
+    /// Events wait in a priority queue by time; an event computed before one of its particles
+    /// changed course is stale (its version is old) and skipped, and only the changed
+    /// particles' events are recomputed — so a dense island costs in proportion to its events.
     pub(crate) fn resolve_island(
         &self,
         p: &Particles,
@@ -259,46 +263,90 @@ impl<'a, M: Motion> Ctx<'a, M> {
         pairs: &[[usize; 2]],
         t1: f64,
     ) -> IslandResult<M::Field> {
-        enum Next {
-            Wall(usize, usize),
-            Pair(usize),
-        }
+        use std::cmp::Reverse;
+        use std::collections::BinaryHeap;
         let mut events = Vec::new();
         let mut contacts: Vec<PairContact> = Vec::new();
         let mut settled = vec![false; pairs.len()];
-        for _ in 0..MAX_EVENTS_PER_PARTICLE * tracks.len() {
-            let mut best: Option<(f64, Next)> = None;
-            let mut consider = |t: f64, next: Next| {
-                if best.as_ref().is_none_or(|(tb, _)| t < *tb) {
-                    best = Some((t, next));
+        let mut version = vec![0u32; tracks.len()];
+        let mut pairs_of: Vec<Vec<usize>> = vec![Vec::new(); tracks.len()];
+        for (q, &[a, b]) in pairs.iter().enumerate() {
+            pairs_of[a].push(q);
+            pairs_of[b].push(q);
+        }
+        // (time, kind: 0 wall / 1 pair, index, wall, versions): ordered, so ties resolve the
+        // same way on every run.
+        type Entry = (Reverse<Time>, u8, usize, usize, u32, u32);
+        let mut queue: BinaryHeap<Entry> = BinaryHeap::new();
+        let wall_entry = |tracks: &[Track<M::Field>], version: &[u32], k: usize| {
+            self.next_wall_event(&tracks[k], t1).map(|(w, t)| (Reverse(Time(t)), 0, k, w, version[k], 0))
+        };
+        let pair_entry = |tracks: &[Track<M::Field>], version: &[u32], q: usize| {
+            let [a, b] = pairs[q];
+            self.next_pair_event(&tracks[a], &tracks[b], t1)
+                .map(|t| (Reverse(Time(t)), 1, q, 0, version[a], version[b]))
+        };
+        for k in 0..tracks.len() {
+            queue.extend(wall_entry(&tracks, &version, k));
+        }
+        for q in 0..pairs.len() {
+            queue.extend(pair_entry(&tracks, &version, q));
+        }
+        let mut budget = MAX_EVENTS_PER_PARTICLE * tracks.len();
+        while let Some((Reverse(Time(t)), kind, idx, w, va, vb)) = queue.pop() {
+            let changed: Vec<usize> = if kind == 0 {
+                if version[idx] != va {
+                    continue;
                 }
+                self.wall_event(p, &mut tracks[idx], w, t, t1, &mut events);
+                vec![idx]
+            } else {
+                let [a, b] = pairs[idx];
+                if settled[idx] || version[a] != va || version[b] != vb {
+                    continue;
+                }
+                let (lo, hi) = tracks.split_at_mut(b);
+                if let Some(c) = self.pair_event(p, &mut lo[a], &mut hi[0], t, t1, &mut events) {
+                    settled[idx] = true;
+                    contacts.push(c);
+                }
+                vec![a, b]
             };
-            for (k, tr) in tracks.iter().enumerate() {
-                if let Some((w, t)) = self.next_wall_event(tr, t1) {
-                    consider(t, Next::Wall(k, w));
-                }
+            budget -= 1;
+            if budget == 0 {
+                break;
             }
-            for (q, &[a, b]) in pairs.iter().enumerate() {
-                if !settled[q] {
-                    if let Some(t) = self.next_pair_event(&tracks[a], &tracks[b], t1) {
-                        consider(t, Next::Pair(q));
-                    }
-                }
+            for &k in &changed {
+                version[k] += 1;
             }
-            match best {
-                None => break,
-                Some((t, Next::Wall(k, w))) => self.wall_event(p, &mut tracks[k], w, t, t1, &mut events),
-                Some((t, Next::Pair(q))) => {
-                    let [a, b] = pairs[q];
-                    let (lo, hi) = tracks.split_at_mut(b);
-                    if let Some(c) = self.pair_event(p, &mut lo[a], &mut hi[0], t, t1, &mut events) {
-                        settled[q] = true;
-                        contacts.push(c);
+            for &k in &changed {
+                queue.extend(wall_entry(&tracks, &version, k));
+                for &q in &pairs_of[k] {
+                    if !settled[q] {
+                        queue.extend(pair_entry(&tracks, &version, q));
                     }
                 }
             }
         }
         IslandResult { tracks, events, contacts }
+    }
+}
+
+/// A time with a total order, for the event queue.
+#[derive(Debug, Clone, Copy, PartialEq)]
+struct Time(f64);
+
+impl Eq for Time {}
+
+impl PartialOrd for Time {
+    fn partial_cmp(&self, other: &Self) -> Option<std::cmp::Ordering> {
+        Some(self.cmp(other))
+    }
+}
+
+impl Ord for Time {
+    fn cmp(&self, other: &Self) -> std::cmp::Ordering {
+        self.0.total_cmp(&other.0)
     }
 }
 
@@ -326,8 +374,9 @@ pub(crate) fn run<M: Motion>(
     for r in results {
         for tr in r.tracks {
             let i = tr.i;
-            scratch.next_pos[i] = tr.end.x;
-            scratch.next_vel[i] = tr.end.v;
+            let (x, v) = clear_of_walls(ctx, tr.end.x, tr.end.v, tr.r());
+            scratch.next_pos[i] = x;
+            scratch.next_vel[i] = v;
             scratch.next_state[i] = tr.end.state;
             p.wall[i] = if tr.end.state == State::Free { NO_WALL } else { tr.seg.wall };
             if let Some((t, v)) = tr.release {
@@ -338,6 +387,15 @@ pub(crate) fn run<M: Motion>(
         events.extend(r.events);
         contacts.extend(r.contacts);
     }
+}
+
+/// Pushes a particle that an event left inside a wall (only possible when an island ran out of
+/// its event budget, or by round-off) back out, without velocity into the wall.
+fn clear_of_walls<M: Motion>(ctx: &Ctx<M>, mut x: DVec3, mut v: DVec3, r: f64) -> (DVec3, DVec3) {
+    for wall in ctx.walls {
+        (x, v, _) = crate::walls::push_out(&wall.shape, x, v, r);
+    }
+    (x, v)
 }
 
 type Island = (Vec<usize>, Vec<[usize; 2]>);

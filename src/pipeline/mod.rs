@@ -49,8 +49,10 @@ pub struct StageTimes {
     pub free_flight: Duration,
     /// Stage 3.
     pub broad_phase: Duration,
-    /// Stages 4 and 5.
+    /// Stages 4 and 5: events in time order.
     pub contacts: Duration,
+    /// Stage 5b: lasting contacts between particles.
+    pub persistent: Duration,
     /// Stage 6.
     pub commit: Duration,
 }
@@ -144,9 +146,11 @@ pub(crate) struct Flight {
     pub state: State,
 }
 
-/// Relative gap (in particle radii) beyond which a sliding particle has lost its wall (it went
-/// over a convex edge); below it the gap is round-off and the particle is put back on the wall.
-const FALL_AWAY: f64 = 1e-9;
+/// Gap (in particle radii) beyond which a sliding particle has lost its wall: it went over a
+/// convex edge, or its neighbours lifted it. Below it the particle is put back on the wall. The
+/// same hysteresis as for lasting pair contacts, so that a particle in a bed does not leave and
+/// land again at every step.
+const FALL_AWAY: f64 = 1e-3;
 
 /// Integrates one segment over `h` (s): free flight, sliding on the wall, or nothing (held).
 #[inline]
@@ -216,12 +220,12 @@ impl Simulation {
     pub fn advance_to(&mut self, t_end: f64) {
         while self.time < t_end {
             let remaining = t_end - self.time;
-            // A sliver left by round-off is merged into the previous step instead.
-            if remaining <= 1e-9 * self.dt {
+            // A sliver left by round-off (the sum of many steps misses t_end by ~n·ε·t) is no step.
+            if remaining <= 1e-6 * self.dt {
                 self.time = t_end;
                 break;
             }
-            let h = if remaining < 1.000_000_001 * self.dt { remaining } else { self.dt };
+            let h = if remaining < 1.000_001 * self.dt { remaining } else { self.dt };
             self.step(h);
             if h == remaining {
                 self.time = t_end;
@@ -290,7 +294,8 @@ impl WithMotion for StepWith<'_> {
             let c3 = Instant::now();
             // 4. + 5.
             contacts::run(&ctx, &mut particles, t0, t1, &mut scratch, &mut events, &mut contacts);
-            persistent::run(&ctx, &particles, &mut scratch, &mut contacts);
+            let c3b = Instant::now();
+            persistent::run(&ctx, &particles, &mut scratch, &mut contacts, pairs);
             let c4 = Instant::now();
             // 6.
             if commit::run(&mut particles, &mut scratch, t1, &mut sim.lost, &mut contacts) {
@@ -300,7 +305,8 @@ impl WithMotion for StepWith<'_> {
             times.release += c1 - clock;
             times.free_flight += c2 - c1;
             times.broad_phase += c3 - c2;
-            times.contacts += c4 - c3;
+            times.contacts += c3b - c3;
+            times.persistent += c4 - c3b;
             times.commit += c5 - c4;
         }
         // 7. Events stay in `sim.events` for the sinks.

@@ -5,7 +5,7 @@
 
 use super::{Ctx, Motion, Scratch};
 use crate::particles::{NO_WALL, PairContact, Particles, State};
-use crate::walls::Surface;
+use crate::walls::push_out;
 use glam::DVec3;
 
 /// Gap beyond which a resting pair has separated (relative to the sum of radii): hysteresis,
@@ -13,23 +13,27 @@ use glam::DVec3;
 const SEPARATED: f64 = 1e-3;
 /// Projection sweeps per step, at most; they stop early once every contact holds to
 /// `TOLERANCE` of the sum of radii.
-const SWEEPS: usize = 50;
-const TOLERANCE: f64 = 1e-6;
+const SWEEPS: usize = 20;
+/// Rounds of (find overlapping neighbours, project) per step.
+const ROUNDS: usize = 2;
+const TOLERANCE: f64 = 1e-3;
 
 /// Keeps every lasting contact at the end of the step (positions and velocities in `scratch`).
+/// A neighbour pair found overlapping — left so by the events (a particle knocked off its course
+/// into a neighbour that was not a candidate), or by this projection pushing a particle into a
+/// neighbour — becomes a resting contact, and the projection runs again.
 pub(crate) fn run<M: Motion>(
     ctx: &Ctx<M>,
     p: &Particles,
     scratch: &mut Scratch,
     contacts: &mut Vec<PairContact>,
+    neighbour_pairs: &[[u32; 2]],
 ) {
-    if contacts.is_empty() {
-        return;
-    }
     let (x, v, state) = (&mut scratch.next_pos, &mut scratch.next_vel, &scratch.next_state);
-    let reach = |c: &PairContact| 0.5 * (p.diameter[c.a as usize] + p.diameter[c.b as usize]);
+    let reach_of = |a: u32, b: u32| 0.5 * (p.diameter[a as usize] + p.diameter[b as usize]);
     contacts.retain(|c| {
-        c.hold.is_some() || (x[c.b as usize] - x[c.a as usize]).length() < reach(c) * (1.0 + SEPARATED)
+        c.hold.is_some()
+            || (x[c.b as usize] - x[c.a as usize]).length() < reach_of(c.a, c.b) * (1.0 + SEPARATED)
     });
     // Inverse inertia; 0 for a particle held at a wall (immobile).
     let w = |i: usize| {
@@ -39,11 +43,65 @@ pub(crate) fn run<M: Motion>(
             1.0 / ctx.inertia_of(p.kind[i] as usize, p.diameter[i])
         }
     };
-    let mut involved: Vec<usize> = contacts.iter().flat_map(|c| [c.a as usize, c.b as usize]).collect();
-    involved.sort_unstable();
-    involved.dedup();
+    for _round in 0..ROUNDS {
+        let known: std::collections::HashSet<[u32; 2]> = contacts.iter().map(|c| [c.a, c.b]).collect();
+        let before = contacts.len();
+        contacts.extend(
+            neighbour_pairs
+                .iter()
+                .filter(|&&[a, b]| {
+                    (x[b as usize] - x[a as usize]).length() < reach_of(a, b) * (1.0 - TOLERANCE)
+                        && !known.contains(&[a, b])
+                })
+                .map(|&[a, b]| PairContact::resting(a, b))
+                .collect::<Vec<_>>(),
+        );
+        if contacts.is_empty() || (contacts.len() == before && _round > 0) {
+            return;
+        }
+        // Bottom-up along gravity: a sweep then carries the support of the walls up through a
+        // stack in one pass, instead of one layer per sweep.
+        let up = -ctx.fluid.gravity.normalize_or(DVec3::NEG_Z);
+        let height = |c: &PairContact| x[c.a as usize].dot(up).min(x[c.b as usize].dot(up));
+        contacts.sort_by(|c, d| height(c).total_cmp(&height(d)).then((c.a, c.b).cmp(&(d.a, d.b))));
+        let mut involved: Vec<usize> = contacts.iter().flat_map(|c| [c.a as usize, c.b as usize]).collect();
+        involved.sort_unstable();
+        involved.dedup();
+        project(ctx, p, x, v, contacts, &involved, &w);
+        // Walls are hard: whatever the sweeps left, no particle ends inside one.
+        for &i in involved.iter().filter(|&&i| w(i) > 0.0) {
+            for wall in ctx.walls {
+                (x[i], v[i], _) = push_out(&wall.shape, x[i], v[i], 0.5 * p.diameter[i]);
+            }
+        }
+    }
+}
+
+/// Gauss–Seidel sweeps over the contacts, then the walls of the particles involved.
+fn project<M: Motion>(
+    ctx: &Ctx<M>,
+    p: &Particles,
+    x: &mut [DVec3],
+    v: &mut [DVec3],
+    contacts: &[PairContact],
+    involved: &[usize],
+    w: &impl Fn(usize) -> f64,
+) {
+    let reach = |c: &PairContact| 0.5 * (p.diameter[c.a as usize] + p.diameter[c.b as usize]);
     for _ in 0..SWEEPS {
         let mut worst: f64 = 0.0;
+        // Walls: no overlap, no approach.
+        for &i in involved.iter().filter(|&&i| w(i) > 0.0) {
+            let r = 0.5 * p.diameter[i];
+            for wall in ctx.walls {
+                let before = x[i];
+                let moved;
+                (x[i], v[i], moved) = push_out(&wall.shape, x[i], v[i], r);
+                if moved {
+                    worst = worst.max((x[i] - before).length() / r);
+                }
+            }
+        }
         for c in contacts.iter() {
             let (a, b) = (c.a as usize, c.b as usize);
             let (wa, wb) = (w(a), w(b));
@@ -66,24 +124,6 @@ pub(crate) fn run<M: Motion>(
             let j = if c.hold.is_some() { u } else { u.dot(n).min(0.0) * n };
             v[a] += j * wa / (wa + wb);
             v[b] -= j * wb / (wa + wb);
-        }
-        // Walls: no overlap, no approach.
-        for &i in &involved {
-            if w(i) == 0.0 {
-                continue;
-            }
-            let r = 0.5 * p.diameter[i];
-            for wall in ctx.walls {
-                let g = wall.shape.gap(x[i], r);
-                if g.gap < 0.0 {
-                    worst = worst.max(-g.gap / r);
-                    x[i] -= g.gap * g.normal;
-                    let vn = v[i].dot(g.normal);
-                    if vn < 0.0 {
-                        v[i] -= vn * g.normal;
-                    }
-                }
-            }
         }
         if worst < TOLERANCE {
             break;

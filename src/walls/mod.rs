@@ -159,3 +159,20 @@ pub(crate) fn convex_crossing(gap: impl Fn(f64) -> Gap, dir: DVec3, tol: f64) ->
     }
     Some(lambda)
 }
+
+/// Moves a sphere of radius `r` at `x` out of `shape` and removes its velocity into it. Repeated
+/// because the gap names the nearest face only: in a box corner the sphere may overlap two or
+/// three faces at once. Returns the corrected position and velocity and whether it overlapped.
+pub fn push_out(shape: &impl Surface, mut x: DVec3, mut v: DVec3, r: f64) -> (DVec3, DVec3, bool) {
+    let mut moved = false;
+    for _ in 0..3 {
+        let g = shape.gap(x, r);
+        if g.gap >= 0.0 {
+            break;
+        }
+        moved = true;
+        x -= g.gap * g.normal;
+        v -= v.dot(g.normal).min(0.0) * g.normal;
+    }
+    (x, v, moved)
+}
