@@ -284,13 +284,9 @@ impl WithMotion for StepWith<'_> {
             free_flight::run(&ctx, &particles, t0, t1, &mut scratch);
             let c2 = Instant::now();
             // 3.
-            let pairs: &[[u32; 2]] = if sim.pair_collisions {
-                neighbours.update(&particles.pos, &scratch.next_pos, &particles.diameter, sim.skin_fraction);
-                &neighbours.pairs
-            } else {
-                &[]
-            };
-            broad_phase::run(&ctx, &particles, &mut scratch, pairs, &contacts);
+            let nb = if sim.pair_collisions { Some(&mut neighbours) } else { None };
+            broad_phase::run(&ctx, &particles, &mut scratch, nb, sim.skin_fraction, &contacts);
+            let pairs: &[[u32; 2]] = if sim.pair_collisions { &neighbours.pairs } else { &[] };
             let c3 = Instant::now();
             // 4. + 5.
             contacts::run(&ctx, &mut particles, t0, t1, &mut scratch, &mut events, &mut contacts);

@@ -24,24 +24,35 @@ impl Neighbours {
         self.reference.clear();
     }
 
-    /// Makes the list valid for moves from `start` to `end` this step: rebuilt from `start` when
-    /// a particle's `end` is more than half the skin from its reference position. The skin is
-    /// `skin_fraction` of the largest diameter, grown to twice the largest move of the step if
-    /// that is larger (a fast particle is never missed).
-    pub fn update(&mut self, start: &[DVec3], end: &[DVec3], diameter: &[f64], skin_fraction: f64) {
+    /// The positions of the last build, to measure how far particles moved since.
+    pub fn reference(&self) -> &[DVec3] {
+        &self.reference
+    }
+
+    /// Makes the list valid for moves from `start` this step. `moved` is the largest distance of
+    /// a particle's end of step from its reference position (∞ if unknown) and `step_move` the
+    /// largest move of the step, both from the broad phase's pass over the particles. The list is
+    /// rebuilt from `start` when a particle may have come within half the skin of leaving it.
+    /// The skin is `skin_fraction` of the largest diameter, grown to four times the largest move
+    /// of the step if that is larger (a fast particle is never missed).
+    pub fn update(
+        &mut self,
+        start: &[DVec3],
+        diameter: &[f64],
+        moved: f64,
+        step_move: f64,
+        skin_fraction: f64,
+    ) {
         let n = start.len();
-        let d_max = diameter.par_iter().copied().reduce(|| 0.0, f64::max);
-        let step_move = start.par_iter().zip(end).map(|(a, b)| (*b - *a).length()).reduce(|| 0.0, f64::max);
-        let valid = self.reference.len() == n
-            && 2.0 * step_move < self.skin
-            && end.par_iter().zip(&self.reference).all(|(x, r)| (*x - *r).length() < 0.5 * self.skin);
-        if valid || n < 2 {
-            if n < 2 {
-                self.pairs.clear();
-                self.reference = start.to_vec();
-            }
+        if n < 2 {
+            self.pairs.clear();
+            self.reference = start.to_vec();
             return;
         }
+        if self.reference.len() == n && 2.0 * step_move < self.skin && moved < 0.5 * self.skin {
+            return;
+        }
+        let d_max = diameter.par_iter().copied().reduce(|| 0.0, f64::max);
         self.skin = (skin_fraction * d_max).max(4.0 * step_move).max(f64::MIN_POSITIVE);
         self.reference = start.to_vec();
         self.pairs = build(start, diameter, d_max + self.skin, self.skin);
@@ -105,7 +116,7 @@ mod tests {
             .collect();
         let d = vec![4e-3; x.len()];
         let mut nb = Neighbours::default();
-        nb.update(&x, &x, &d, 0.5);
+        nb.update(&x, &d, f64::INFINITY, 0.0, 0.5);
         let mut brute = Vec::new();
         for i in 0..x.len() {
             for j in i + 1..x.len() {

@@ -1,6 +1,6 @@
 //! Axis-aligned box, with the particles inside (a container) or outside (an obstacle).
 
-use super::{Crossing, Gap, Surface, boxes_overlap, convex_crossing, ends_touch, linear_crossing};
+use super::{Crossing, Gap, Surface, boxes_overlap, convex_crossing, linear_crossing};
 use glam::DVec3;
 
 /// An axis-aligned box from `min` to `max` (m).
@@ -73,8 +73,17 @@ impl Surface for Cuboid {
         Some(Crossing { enter, exit: exit.max(enter) })
     }
 
+    #[inline]
     fn may_touch(&self, c0: DVec3, c1: DVec3, r: f64) -> bool {
-        if self.inside { ends_touch(self, c0, c1, r) } else { boxes_overlap(c0, c1, r, self.min, self.max) }
+        if self.inside {
+            // The inside of the box shrunk by r is convex: the move stays clear of the faces iff
+            // both ends lie in it.
+            let (lo, hi) = (self.min + DVec3::splat(r), self.max - DVec3::splat(r));
+            let clear = |c: DVec3| c.cmpgt(lo).all() && c.cmplt(hi).all();
+            !(clear(c0) && clear(c1))
+        } else {
+            boxes_overlap(c0, c1, r, self.min, self.max)
+        }
     }
 }
 

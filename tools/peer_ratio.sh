@@ -1,0 +1,32 @@
+#!/usr/bin/env bash
+# Runs the LIGGGHTS peer (../shared/peers/liggghts/in.s1_dilute) and wetbounce on the same
+# dilute scene (scenes/bench_dilute.toml: same spheres, box, fluid, effects and step count),
+# one after the other in one run, with 1 and 2 ranks/threads, and prints the ratio.
+#
+#   apt-get install -y liggghts          # Debian package, with Open MPI
+#   bash tools/peer_ratio.sh             # STEPS=20000 by default
+set -euo pipefail
+HERE=$(cd "$(dirname "$0")/.." && pwd)
+PEERS=${PEERS:-$HERE/../shared/peers/liggghts}
+STEPS=${STEPS:-20000}
+command -v liggghts >/dev/null || { echo "liggghts not found: apt-get install -y liggghts" >&2; exit 1; }
+cargo build --release --quiet --bin step_rate --manifest-path "$HERE/Cargo.toml"
+WORK=$(mktemp -d)
+cp "$PEERS"/common_params.liggghts "$PEERS"/in.s1_dilute "$WORK"/
+cd "$WORK"
+N=10000
+lig() { # ranks
+  local cmd=(liggghts -in in.s1_dilute -var nsteps "$STEPS" -var out 0 -log log.$1 -screen none)
+  if [ "$1" -gt 1 ]; then cmd=(mpirun --allow-run-as-root -np "$1" "${cmd[@]}"); fi
+  "${cmd[@]}" >/dev/null 2>&1
+  awk -v n=$N -v s="$STEPS" '/^Loop time of/{t=$4} END{printf "%.4e", n*s/t}' log.$1
+}
+wb() { # threads
+  "${CARGO_TARGET_DIR:-$HERE/target}/release/step_rate" "$HERE/scenes/bench_dilute.toml" "$STEPS" "$1" | awk -F'particle_steps_per_s=' '/particle_steps_per_s/{print $2}'
+}
+printf "%-10s %-8s %16s %16s %8s\n" scene ranks liggghts_psps wetbounce_psps ratio
+for r in 1 2; do
+  L=$(lig $r); W=$(wb $r)
+  printf "%-10s %-8s %16s %16s %8.2f\n" S1_dilute "$r" "$L" "$W" "$(awk -v w="$W" -v l="$L" 'BEGIN{print w/l}')"
+done
+rm -rf "$WORK"

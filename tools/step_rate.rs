@@ -1,0 +1,45 @@
+//! Prints how fast a scene steps: particle-steps per second and the time of each stage.
+//!
+//! Run: `cargo run --release --bin step_rate -- SCENE [STEPS] [THREADS]`
+//! (defaults: the scene's own step count up to 20,000, all cores). No output files are written,
+//! so the figure is the engine's alone — the LIGGGHTS peer is timed the same way ("Loop time").
+
+use std::time::Instant;
+use wetbounce::Scene;
+
+fn main() {
+    let args: Vec<String> = std::env::args().skip(1).collect();
+    let Some(path) = args.first() else {
+        eprintln!("usage: step_rate SCENE [STEPS] [THREADS]");
+        std::process::exit(2);
+    };
+    let scene = Scene::load(path).unwrap_or_else(|e| {
+        eprintln!("error: {e}");
+        std::process::exit(1)
+    });
+    let parse = |i: usize, what: &str| {
+        args.get(i).map(|s| {
+            s.parse::<usize>().unwrap_or_else(|_| {
+                eprintln!("error: {what} must be a whole number, got {s}");
+                std::process::exit(2)
+            })
+        })
+    };
+    let steps = parse(1, "STEPS").unwrap_or(((scene.duration / scene.dt).round() as usize).min(20_000));
+    if let Some(threads) = parse(2, "THREADS") {
+        rayon::ThreadPoolBuilder::new().num_threads(threads.max(1)).build_global().expect("thread pool");
+    }
+    let mut sim = scene.simulation();
+    let n = sim.particles.len();
+    let start = Instant::now();
+    for _ in 0..steps {
+        sim.step(scene.dt);
+    }
+    let wall = start.elapsed().as_secs_f64();
+    println!(
+        "{path} N={n} steps={steps} threads={} wall_s={wall:.3} particle_steps_per_s={:.4e}",
+        rayon::current_num_threads(),
+        n as f64 * steps as f64 / wall
+    );
+    println!("stages: {:?}", sim.stage_times);
+}
