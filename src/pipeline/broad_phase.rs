@@ -4,62 +4,45 @@ use super::neighbours::Neighbours;
 use super::{Ctx, Motion, Scratch};
 use crate::particles::{NO_WALL, PairContact, Particles, State};
 use crate::walls::Surface;
+use glam::DVec3;
 use rayon::prelude::*;
 use std::collections::HashSet;
 
-/// Collects, in index order, the particles whose straight move from `pos` to `next_pos` may
-/// touch a wall other than the one they rest on (walls are few and static; each answers with a
-/// closed-form test or a bounding-box overlap); in the same pass measures how far particles
-/// moved, keeps the Verlet list valid (`neighbours`, when pairs collide), and collects the
-/// neighbour pairs whose straight moves come within contact and are not already in a lasting
-/// contact.
-pub(crate) fn run<M: Motion>(
+/// Whether a particle's straight move from `x0` to `x1` may touch a wall other than the one it
+/// rests on (walls are few and static; each answers with a closed-form test or a bounding-box
+/// overlap). A particle held at a wall does not move.
+#[inline(always)]
+pub(crate) fn touches_wall<M: Motion>(
     ctx: &Ctx<M>,
+    (x0, x1): (DVec3, DVec3),
+    state: State,
+    wall: u32,
+    d: f64,
+) -> bool {
+    if state == State::Held && wall != NO_WALL {
+        return false;
+    }
+    let r = 0.5 * d;
+    ctx.walls
+        .iter()
+        .enumerate()
+        .any(|(w, shape)| !(state == State::Resting && wall == w as u32) && shape.shape.may_touch(x0, x1, r))
+}
+
+/// Keeps the Verlet list valid for this step's moves (`moved`: the largest distance of an end of
+/// step from its reference position; `step_move`: the largest move of the step) and collects
+/// the neighbour pairs whose straight moves come within contact and are not already in a
+/// lasting contact.
+pub(crate) fn pairs(
     p: &Particles,
     scratch: &mut Scratch,
-    neighbours: Option<&mut Neighbours>,
+    neighbours: &mut Neighbours,
+    (moved, step_move): (f64, f64),
     skin_fraction: f64,
     contacts: &[PairContact],
 ) {
     let next = &scratch.next_pos;
-    let reference = neighbours.as_ref().map_or(&[][..], |nb| nb.reference());
-    let has_reference = reference.len() == p.len();
-    // One pass: wall candidates, and the largest moves for the Verlet list.
-    let (candidates, moved, step_move) = (0..p.len())
-        .into_par_iter()
-        .with_min_len(2048)
-        .fold(
-            || (Vec::new(), 0.0f64, 0.0f64),
-            |(mut list, moved, step), i| {
-                // Squared distances: one square root per step instead of two per particle.
-                let from_reference =
-                    if has_reference { (next[i] - reference[i]).length_squared() } else { f64::INFINITY };
-                let step_i = (next[i] - p.pos[i]).length_squared();
-                let state = p.state[i];
-                let immobile = state == State::Held && p.wall[i] != NO_WALL;
-                let r = 0.5 * p.diameter[i];
-                let touches = !immobile
-                    && ctx.walls.iter().enumerate().any(|(w, wall)| {
-                        !(state == State::Resting && p.wall[i] == w as u32)
-                            && wall.shape.may_touch(p.pos[i], next[i], r)
-                    });
-                if touches {
-                    list.push(i as u32);
-                }
-                (list, moved.max(from_reference), step.max(step_i))
-            },
-        )
-        .reduce(
-            || (Vec::new(), 0.0, 0.0),
-            |(mut a, ma, sa), (b, mb, sb)| {
-                a.extend(b);
-                (a, ma.max(mb), sa.max(sb))
-            },
-        );
-    scratch.candidates = candidates;
-    let (moved, step_move) = (moved.sqrt(), step_move.sqrt());
     scratch.pair_candidates.clear();
-    let Some(neighbours) = neighbours else { return };
     neighbours.update(&p.pos, &p.diameter, moved, step_move, skin_fraction);
     if neighbours.pairs.is_empty() {
         return;

@@ -23,6 +23,7 @@ mod events;
 mod free_flight;
 mod motion;
 pub mod neighbours;
+mod particle_pass;
 mod persistent;
 mod release;
 pub mod run;
@@ -43,12 +44,11 @@ use std::time::{Duration, Instant};
 /// Wall time spent in each stage of [`Simulation::step`], summed over steps.
 #[derive(Debug, Clone, Copy, Default)]
 pub struct StageTimes {
-    /// Stage 1.
-    pub release: Duration,
-    /// Stage 2.
-    pub free_flight: Duration,
-    /// Stage 3.
-    pub broad_phase: Duration,
+    /// Stages 1, 2 and the walls' part of 3: one fused pass over the particles (release, free
+    /// flight, wall candidates), plus the end of pair holds.
+    pub particles: Duration,
+    /// Stage 3 for pairs: the Verlet list and the candidate pairs.
+    pub pairs: Duration,
     /// Stages 4 and 5: events in time order.
     pub contacts: Duration,
     /// Stage 5b: lasting contacts between particles.
@@ -276,16 +276,23 @@ impl WithMotion for StepWith<'_> {
         {
             let ctx = sim.ctx(motion);
             let clock = Instant::now();
-            // 1.
-            release::run(&ctx, &mut particles, t1);
+            // 1. (pairs; the walls' part is fused below)
             persistent::release(&ctx, &mut particles, &mut contacts, t1);
+            // 1. + 2. + 3. (walls), one pass over the particles.
+            let reference = if sim.pair_collisions { neighbours.reference() } else { &[] };
+            let moves = particle_pass::run(&ctx, &mut particles, t0, t1, &mut scratch, reference);
             let c1 = Instant::now();
-            // 2.
-            free_flight::run(&ctx, &particles, t0, t1, &mut scratch);
-            let c2 = Instant::now();
-            // 3.
-            let nb = if sim.pair_collisions { Some(&mut neighbours) } else { None };
-            broad_phase::run(&ctx, &particles, &mut scratch, nb, sim.skin_fraction, &contacts);
+            // 3. (pairs)
+            if sim.pair_collisions {
+                broad_phase::pairs(
+                    &particles,
+                    &mut scratch,
+                    &mut neighbours,
+                    moves,
+                    sim.skin_fraction,
+                    &contacts,
+                );
+            }
             let pairs: &[[u32; 2]] = if sim.pair_collisions { &neighbours.pairs } else { &[] };
             let c3 = Instant::now();
             // 4. + 5.
@@ -298,9 +305,8 @@ impl WithMotion for StepWith<'_> {
                 neighbours.invalidate();
             }
             let c5 = Instant::now();
-            times.release += c1 - clock;
-            times.free_flight += c2 - c1;
-            times.broad_phase += c3 - c2;
+            times.particles += c1 - clock;
+            times.pairs += c3 - c1;
             times.contacts += c3b - c3;
             times.persistent += c4 - c3b;
             times.commit += c5 - c4;
