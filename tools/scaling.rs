@@ -1,0 +1,115 @@
+//! Scaling sweep: particle-steps per second over N and thread counts, for the benchmark cases
+//! of the many-particles work, written as CSV.
+//!
+//! Run: `cargo run --release --bin scaling -- [OUT.csv] [MAX_N]` (defaults: standard output,
+//! 1,000,000). Cases:
+//! - `dilute`: the LIGGGHTS peer's scene scaled to N — beads on a cubic lattice at 3 d in a box
+//!   of liquid (ρ = 1000 kg/m³, μ = 0.1 Pa·s), gravity, buoyancy, Stokes drag, Euler, 20 mm above
+//!   the floor so that no bead touches a wall in the timed steps;
+//! - `paper`: the same with L06's physics — Schiller–Naumann drag, added mass, RK2;
+//! - `paper-no-<effect>`: `paper` with one effect left out (and `paper-no-pairs` without
+//!   particle–particle contacts), to show a scene pays only for what it names;
+//! - `pairs5`: two bead densities at 5 % volume fraction, settling at different speeds, so the
+//!   neighbour list and pair contacts are exercised.
+
+use std::io::Write;
+use std::path::Path;
+use std::time::Instant;
+use wetbounce::Scene;
+
+const D: f64 = 2.5e-3;
+
+fn scene(case: &str, n: usize) -> Scene {
+    let paper = case.starts_with("paper");
+    let pairs5 = case == "pairs5";
+    // Lattice spacing: 3 d (dilute), or the 5 % volume fraction (π/6 d³/a³ = 0.05).
+    let spacing = if pairs5 { D * (std::f64::consts::PI / 0.3).cbrt() } else { 3.0 * D };
+    let side = (n as f64).cbrt().ceil();
+    let extent = side * spacing;
+    let mut effects = vec!["gravity = {}", "buoyancy = {}"];
+    effects.push(if paper || pairs5 {
+        "drag = { law = \"schiller_naumann\" }"
+    } else {
+        "drag = { law = \"stokes\" }"
+    });
+    if paper || pairs5 {
+        effects.push("added_mass = {}");
+    }
+    if let Some(off) = case.strip_prefix("paper-no-") {
+        effects.retain(|e| !e.starts_with(off));
+    }
+    let integrator = if paper || pairs5 { "rk2" } else { "euler" };
+    let mut text = format!(
+        "[simulation]\ndt = 1e-4\nduration = 1.0\noutput_interval = 1.0\nintegrator = \"{integrator}\"\n\
+         [fluid]\ndensity = 1000.0\nviscosity = 0.1\n[effects]\n{}\n",
+        effects.join("\n")
+    );
+    for (name, density) in [("glass", 2540.0), ("pmma", 1190.0)] {
+        text += &format!(
+            "[[kinds]]\nname = \"{name}\"\ntype = \"solid\"\ndensity = {density}\nyoungs_modulus = 6e9\npoisson_ratio = 0.3\nrestitution_max = 0.9\n"
+        );
+    }
+    text += &format!(
+        "[[walls]]\nname = \"box\"\ntype = \"box\"\nmin = [0.0, 0.0, 0.0]\nmax = [{extent}, {extent}, {}]\ninside = true\n",
+        0.04 + extent * 1.2
+    );
+    // Layers alternate between the two kinds in `pairs5`, so they settle through each other.
+    let layers = side as usize;
+    for layer in 0..layers {
+        let kind = if pairs5 && layer % 2 == 1 { "pmma" } else { "glass" };
+        // 20 mm above the floor: no bead reaches it within the timed steps.
+        let z0 = 0.02 + layer as f64 * spacing;
+        text += &format!(
+            "[[lattice]]\nkind = \"{kind}\"\ndiameter = {D}\nmin = [0.0, 0.0, {z0}]\nmax = [{extent}, {extent}, {}]\nspacing = {spacing}\n",
+            z0 + 0.99 * spacing
+        );
+    }
+    Scene::from_str(&text, Path::new("scaling.toml")).unwrap_or_else(|e| panic!("{case}: {e}"))
+}
+
+fn main() {
+    let args: Vec<String> = std::env::args().skip(1).collect();
+    let max_n: usize = args.get(1).map_or(1_000_000, |s| s.parse().expect("MAX_N must be a whole number"));
+    let mut out: Box<dyn Write> = match args.first() {
+        Some(path) => Box::new(std::fs::File::create(path).unwrap_or_else(|e| panic!("{path}: {e}"))),
+        None => Box::new(std::io::stdout()),
+    };
+    writeln!(out, "case,n,threads,steps,wall_s,particle_steps_per_s").expect("write");
+    let cases = [
+        "dilute",
+        "paper",
+        "paper-no-added_mass",
+        "paper-no-buoyancy",
+        "paper-no-drag",
+        "paper-no-pairs",
+        "pairs5",
+    ];
+    for case in cases {
+        for n in [1_000, 10_000, 100_000, 1_000_000].into_iter().filter(|&n| n <= max_n) {
+            let base = scene(case, n);
+            for threads in [1, 2] {
+                let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build().expect("threads");
+                let mut sim = base.simulation();
+                sim.pair_collisions = case != "paper-no-pairs";
+                let count = sim.particles.len();
+                let steps = (2_000_000 / count).clamp(10, 2_000);
+                // One warm-up step builds the neighbour list and the scratch columns.
+                pool.install(|| sim.step(base.dt));
+                let start = Instant::now();
+                pool.install(|| {
+                    for _ in 0..steps {
+                        sim.step(base.dt);
+                    }
+                });
+                let wall = start.elapsed().as_secs_f64();
+                writeln!(
+                    out,
+                    "{case},{count},{threads},{steps},{wall:.4},{:.4e}",
+                    (count * steps) as f64 / wall
+                )
+                .expect("write");
+                out.flush().expect("flush");
+            }
+        }
+    }
+}
