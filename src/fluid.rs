@@ -22,6 +22,8 @@ pub enum Flow {
     Quiescent,
     /// `u` = this constant vector (m/s) everywhere.
     Uniform(DVec3),
+    /// Laminar Poiseuille flow in a straight circular pipe (see [`Poiseuille`]).
+    Poiseuille(Poiseuille),
 }
 
 /// A steady velocity field evaluated in the hot loop; one zero-sized or tiny type per kind of
@@ -53,12 +55,57 @@ impl FlowField for Uniform {
     }
 }
 
+/// Fully developed laminar flow in a circular pipe of radius `R` around the axis through
+/// `point` along unit `axis`: `u = u_max (1 − ρ²/R²) axis` at distance `ρ < R` from the axis,
+/// 0 outside (the pipe wall and beyond). The mean velocity over the section is `u_max / 2`.
+///
+/// The flow is steady and unidirectional, and `u` varies only across the axis, so the
+/// convective acceleration `(u·∇)u` is zero as well as `∂u/∂t`: `Du/Dt = 0` everywhere, and
+/// the added-mass and fluid-acceleration terms need no extra code (PHYSICS.md §1).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Poiseuille {
+    /// A point on the pipe's axis (m).
+    pub point: DVec3,
+    /// Unit direction of the axis; the flow goes along it when `max_velocity > 0`.
+    pub axis: DVec3,
+    /// Pipe radius `R` (m).
+    pub radius: f64,
+    /// Centre-line velocity `u_max` (m/s), signed along `axis`.
+    pub max_velocity: f64,
+}
+
+impl FlowField for Poiseuille {
+    #[inline(always)]
+    fn velocity(&self, x: DVec3) -> DVec3 {
+        let rel = x - self.point;
+        let along = rel.dot(self.axis);
+        let rho2 = (rel - along * self.axis).length_squared();
+        let shape = (1.0 - rho2 / (self.radius * self.radius)).max(0.0);
+        (self.max_velocity * shape) * self.axis
+    }
+}
+
 impl Flow {
     /// Fluid velocity at `x` (m/s), for code outside the hot loop.
     pub fn velocity(&self, x: DVec3) -> DVec3 {
         match *self {
             Flow::Quiescent => Quiescent.velocity(x),
             Flow::Uniform(u) => Uniform(u).velocity(x),
+            Flow::Poiseuille(p) => p.velocity(x),
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn poiseuille_is_parabolic_inside_and_still_outside() {
+        let p = Poiseuille { point: DVec3::ZERO, axis: DVec3::Z, radius: 0.02, max_velocity: -0.1 };
+        assert_eq!(p.velocity(DVec3::new(0.0, 0.0, 5.0)), DVec3::new(0.0, 0.0, -0.1));
+        let half = p.velocity(DVec3::new(0.01, 0.0, -3.0));
+        assert!((half.z + 0.075).abs() < 1e-15 && half.x == 0.0 && half.y == 0.0);
+        assert_eq!(p.velocity(DVec3::new(0.0, 0.03, 0.0)), DVec3::ZERO);
     }
 }

@@ -182,11 +182,18 @@ fn run_scene(args: &RunArgs) -> Result<(String, ExitCode), String> {
         run(&mut sim, scene.duration, output_interval, &mut all, &stop).map_err(|e| e.to_string())?
     };
     let summary = RunSummary::new(&sim, &report, &stats);
+    let json_path = out.join("summary.json");
+    let mut json = summary.to_json();
+    json["scene"] = serde_json::Value::String(path.display().to_string());
+    let json_text =
+        serde_json::to_string_pretty(&json).map_err(|e| format!("{}: {e}", json_path.display()))?;
+    std::fs::write(&json_path, json_text + "\n").map_err(|e| format!("{}: {e}", json_path.display()))?;
+    written.push(json_path);
     let _ = writeln!(
         text,
         "{}: {} particles, {} integrator, dt = {} s",
         path.display(),
-        summary.alive + summary.removed(),
+        summary.total(),
         scene.integrator.name(),
         scene.dt
     );

@@ -83,6 +83,10 @@ pub struct Particles {
     /// Velocity (m/s) a held particle gets at release: `ε V∞` along the normal plus `e_t` times
     /// the tangential velocity at impact.
     pub release_vel: Vec<DVec3>,
+    /// Simulated time (s) at which the particle entered the simulation: 0 for the scene's
+    /// initial particles, the injection time for injected ones. An outlet's residence time is
+    /// the removal time minus this.
+    pub born: Vec<f64>,
 }
 
 impl Particles {
@@ -107,6 +111,7 @@ impl Particles {
         self.wall.push(NO_WALL);
         self.release_time.push(f64::NEG_INFINITY);
         self.release_vel.push(DVec3::ZERO);
+        self.born.push(0.0);
         self.len() - 1
     }
 
@@ -125,6 +130,7 @@ impl Particles {
         column(&mut self.wall, keep);
         column(&mut self.release_time, keep);
         column(&mut self.release_vel, keep);
+        column(&mut self.born, keep);
     }
 }
 

@@ -9,7 +9,9 @@ use serde::Deserialize;
 /// Adds `C_M ρ Vp` to the particle's inertia (L06 eq. 7, `C_M = C_M∞ = 1/2` by default).
 ///
 /// The fluid-acceleration terms `ρ Vp (1 + C_M) Du/Dt` **[ext]** vanish for every flow the
-/// engine offers (quiescent and uniform flows are steady and uniform), so no force is added.
+/// engine offers, so no force is added: quiescent and uniform flows are steady and uniform, and
+/// laminar Poiseuille flow is steady and unidirectional with `u` varying only across its axis,
+/// so its convective acceleration `(u·∇)u` is zero too.
 /// Scene table: `added_mass = {}` or `added_mass = { coefficient = 0.5 }`.
 #[derive(Debug, Clone, Deserialize)]
 #[serde(deny_unknown_fields)]

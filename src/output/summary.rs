@@ -1,6 +1,7 @@
 //! The table printed at the end of a run.
 
 use super::Statistics;
+use super::statistics::{Distribution, WallStatistics};
 use crate::particles::State;
 use crate::pipeline::Simulation;
 use crate::pipeline::run::RunReport;
@@ -30,8 +31,18 @@ pub struct RunSummary {
     pub resting: usize,
     /// Taken out because their state became non-finite.
     pub lost: usize,
-    // NOTE: removals by outlets go here as a field of their own (and in `removed()`) once the
-    // engine counts them.
+    /// Taken out by outlets.
+    pub removed_by_outlets: usize,
+    /// Added by injectors.
+    pub injected: u64,
+    /// Injections skipped because no clear place was found (never placed overlapping).
+    pub injection_skipped: u64,
+    /// Each wall's name and impacts, in scene order.
+    pub walls: Vec<(String, WallStatistics)>,
+    /// Each outlet's name and residence-time distribution (s), in scene order.
+    pub outlets: Vec<(String, Distribution)>,
+    /// Each injector's name and (due, injected, skipped) counts, in scene order.
+    pub injectors: Vec<(String, [u64; 3])>,
 }
 
 impl RunSummary {
@@ -49,12 +60,96 @@ impl RunSummary {
             held: count(State::Held),
             resting: count(State::Resting),
             lost: sim.lost.len(),
+            removed_by_outlets: sim.outlets.iter().map(|o| o.removed.len()).sum(),
+            injected: sim.injectors.iter().map(|i| i.injected).sum(),
+            injection_skipped: sim.injectors.iter().map(|i| i.skipped).sum(),
+            walls: sim.walls.iter().enumerate().map(|(w, wall)| (wall.name.clone(), stats.wall(w))).collect(),
+            outlets: sim
+                .outlets
+                .iter()
+                .map(|o| {
+                    let times: Vec<f64> = o.removed.iter().map(|r| r.residence_time).collect();
+                    (o.name.clone(), Distribution::of(&times))
+                })
+                .collect(),
+            injectors: sim
+                .injectors
+                .iter()
+                .map(|i| (i.name.clone(), [i.due, i.injected, i.skipped]))
+                .collect(),
         }
     }
 
     /// Particles taken out of the simulation, for any reason.
     pub fn removed(&self) -> usize {
-        self.lost
+        self.lost + self.removed_by_outlets
+    }
+
+    /// Particles that were ever in the simulation: `alive + removed = initial + injected`.
+    pub fn total(&self) -> usize {
+        self.alive + self.removed()
+    }
+
+    /// The content of `DIR/summary.json`: this table, with every wall's impacts, every outlet's
+    /// residence-time distribution and every injector's counts. SI units; a mean of nothing is
+    /// `null`.
+    pub fn to_json(&self) -> serde_json::Value {
+        use serde_json::json;
+        let num = |x: f64| if x.is_finite() { json!(x) } else { serde_json::Value::Null };
+        let s = &self.stats;
+        let walls: Vec<_> = self
+            .walls
+            .iter()
+            .map(|(name, st)| {
+                json!({
+                    "name": name,
+                    "impacts": st.impacts(),
+                    "held": st.held,
+                    "bounced": st.bounced,
+                    "deposited": st.deposited,
+                    "mean_st": num(st.mean_st()),
+                    "mean_eps": num(st.mean_eps()),
+                    "held_time_s": st.held_time_s,
+                })
+            })
+            .collect();
+        let outlets: Vec<_> =
+            self.outlets.iter().map(|(name, d)| json!({ "name": name, "residence_time_s": d })).collect();
+        let injectors: Vec<_> = self
+            .injectors
+            .iter()
+            .map(|(name, [due, injected, skipped])| {
+                json!({ "name": name, "due": due, "injected": injected, "skipped": skipped })
+            })
+            .collect();
+        json!({
+            "time_s": self.time,
+            "steps": self.steps,
+            "wall_time_s": self.wall_time_s,
+            "interrupted": self.interrupted,
+            "particles": {
+                "alive": self.alive,
+                "free": self.free,
+                "held": self.held,
+                "deposited": self.resting,
+                "removed": self.removed(),
+                "removed_by_outlets": self.removed_by_outlets,
+                "lost_non_finite": self.lost,
+                "injected": self.injected,
+                "injection_skipped": self.injection_skipped,
+            },
+            "impacts": {
+                "total": s.contacts(),
+                "held": s.held,
+                "bounced": s.bounced,
+                "deposited": s.deposited,
+                "mean_st": num(s.mean_st()),
+                "mean_eps": num(s.mean_eps()),
+            },
+            "walls": walls,
+            "outlets": outlets,
+            "injectors": injectors,
+        })
     }
 }
 
@@ -86,6 +181,49 @@ impl fmt::Display for RunSummary {
             "  particles          {} in the simulation: {} free, {} held, {} deposited (resting)",
             self.alive, self.free, self.held, self.resting
         )?;
-        write!(f, "  removed            {} ({} non-finite)", self.removed(), self.lost)
+        if self.injected + self.injection_skipped > 0 {
+            writeln!(
+                f,
+                "  injected           {} ({} skipped: no clear place)",
+                self.injected, self.injection_skipped
+            )?;
+        }
+        if self.outlets.is_empty() {
+            write!(f, "  removed            {} ({} non-finite)", self.removed(), self.lost)?;
+        } else {
+            write!(
+                f,
+                "  removed            {} ({} by outlets, {} non-finite)",
+                self.removed(),
+                self.removed_by_outlets,
+                self.lost
+            )?;
+        }
+        for (name, w) in self.walls.iter().filter(|(_, w)| w.impacts() > 0) {
+            write!(
+                f,
+                "\n  wall {name:<13} {} impacts (held {}, bounced {}, deposited {}), mean St {}, mean ε {}, held {:.3} s",
+                w.impacts(),
+                w.held,
+                w.bounced,
+                w.deposited,
+                opt(w.mean_st()),
+                opt(w.mean_eps()),
+                w.held_time_s
+            )?;
+        }
+        for (name, d) in &self.outlets {
+            let s = |x: Option<f64>| x.map_or("-".into(), |x| format!("{x:.3}"));
+            write!(
+                f,
+                "\n  outlet {name:<11} {} removed, residence time mean {} s (p10 {}, median {}, p90 {})",
+                d.count,
+                s(d.mean),
+                s(d.p10),
+                s(d.p50),
+                s(d.p90)
+            )?;
+        }
+        Ok(())
     }
 }

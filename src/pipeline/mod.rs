@@ -12,7 +12,10 @@
 //!    rest of the step integrated from the contact point, until the step is used up (parallel
 //!    over particles, results written back in particle order);
 //! 6. **commit** ([`commit`]): the new states replace the old; a particle whose state is no
-//!    longer finite is taken out and reported;
+//!    longer finite is taken out and reported; then **outlets** ([`outlets`]) take out the
+//!    particles that left through them (recording their residence times) and **injectors**
+//!    ([`inject`]) add the particles due in the step, clear of walls and other particles
+//!    (serial and seeded, so independent of the thread count);
 //! 7. **emit**: the step's contact events wait in [`Simulation::events`] for the output sinks
 //!    (the [`run`] driver drains them and writes frames at the output times).
 
@@ -21,8 +24,10 @@ mod commit;
 mod contacts;
 mod events;
 mod free_flight;
+pub mod inject;
 mod motion;
 pub mod neighbours;
+pub mod outlets;
 mod particle_pass;
 mod persistent;
 mod release;
@@ -55,6 +60,8 @@ pub struct StageTimes {
     pub persistent: Duration,
     /// Stage 6.
     pub commit: Duration,
+    /// Stage 6: outlets and injectors.
+    pub inflow_outflow: Duration,
 }
 
 /// Per-step scratch columns, reused between steps.
@@ -104,6 +111,12 @@ pub struct Simulation {
     pub pair_collisions: bool,
     /// Verlet skin as a fraction of the largest diameter.
     pub skin_fraction: f64,
+    /// Injectors (stage 6), with their counts.
+    pub injectors: Vec<inject::Injector>,
+    /// Outlets (stage 6), with the particles they removed.
+    pub outlets: Vec<outlets::Outlet>,
+    /// Id of the next injected particle: above every id in use, so ids are never reused.
+    pub next_id: u32,
     scratch: Scratch,
 }
 
@@ -193,6 +206,7 @@ impl Simulation {
         integrator: IntegratorKind,
         dt: f64,
     ) -> Self {
+        let next_id = particles.id.iter().max().map_or(0, |&i| i + 1);
         Simulation {
             time: 0.0,
             dt,
@@ -211,6 +225,9 @@ impl Simulation {
             neighbours: Neighbours::default(),
             pair_collisions: true,
             skin_fraction: 0.5,
+            injectors: Vec::new(),
+            outlets: Vec::new(),
+            next_id,
             scratch: Scratch::default(),
         }
     }
@@ -296,6 +313,7 @@ impl WithMotion for StepWith<'_> {
             let pairs: &[[u32; 2]] = if sim.pair_collisions { &neighbours.pairs } else { &[] };
             let c3 = Instant::now();
             // 4. + 5.
+            let first_event = events.len();
             contacts::run(&ctx, &mut particles, t0, t1, &mut scratch, &mut events, &mut contacts);
             let c3b = Instant::now();
             persistent::run(&ctx, &particles, &mut scratch, &mut contacts, pairs);
@@ -305,6 +323,15 @@ impl WithMotion for StepWith<'_> {
                 neighbours.invalidate();
             }
             let c5 = Instant::now();
+            // 6. (continued) Outlets, then injectors: a particle injected in this step is not
+            // judged by an outlet before it has moved.
+            let removed =
+                outlets::run(&mut sim.outlets, &mut particles, &events[first_event..], t1, &mut contacts);
+            let added = inject::run(&mut sim.injectors, &sim.walls, &mut particles, &mut sim.next_id, t1);
+            if removed || added {
+                neighbours.invalidate();
+            }
+            times.inflow_outflow += c5.elapsed();
             times.particles += c1 - clock;
             times.pairs += c3 - c1;
             times.contacts += c3b - c3;

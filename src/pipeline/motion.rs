@@ -75,5 +75,6 @@ fn by_flow<S: Scheme, D: DragLaw, W: WithMotion>(scheme: S, flow: Flow, w: W) ->
     match flow {
         Flow::Quiescent => w.run(&Mover::<S, D, _> { scheme, flow: fluid::Quiescent, law: PhantomData }),
         Flow::Uniform(u) => w.run(&Mover::<S, D, _> { scheme, flow: fluid::Uniform(u), law: PhantomData }),
+        Flow::Poiseuille(p) => w.run(&Mover::<S, D, _> { scheme, flow: p, law: PhantomData }),
     }
 }

@@ -2,13 +2,13 @@
 
 use super::Scene;
 use super::error::{Invalid, SceneError, check};
-use super::fill;
 use super::schema::*;
+use super::{fill, flux};
 use crate::contact::BounceRule;
 use crate::effects::{Physics, build_effect};
-use crate::fluid::{Flow, Fluid};
+use crate::fluid::{Flow, Fluid, Poiseuille};
 use crate::particles::{Material, ParticleKind, Particles};
-use crate::walls::{Cuboid, Cylinder, Plane, Shape, Surface, Wall, WallMaterial, load_mesh};
+use crate::walls::{Cuboid, Cylinder, Plane, Shape, Surface, Wall, WallMaterial, annulus_mesh, load_mesh};
 use glam::DVec3;
 use std::path::Path;
 
@@ -102,6 +102,8 @@ pub(super) fn build(file: SceneFile, base: &Path, source: &str) -> Result<Scene,
     let mut particles = Particles::default();
     let origins = fill::add_particles(&file, &kinds, &mut particles)?;
     check_clear_of_walls(&origins, &particles, &walls)?;
+    let injectors = flux::build_injectors(&file.injectors, &kinds, duration)?;
+    let outlets = flux::build_outlets(&file.outlets, &walls)?;
 
     Ok(Scene {
         path: Default::default(),
@@ -116,6 +118,8 @@ pub(super) fn build(file: SceneFile, base: &Path, source: &str) -> Result<Scene,
         physics,
         rule,
         particles,
+        injectors,
+        outlets,
     })
 }
 
@@ -124,16 +128,63 @@ fn build_fluid(f: &FluidSpec) -> Result<Fluid, Invalid> {
         density: check::non_negative("fluid.density", f.density)?,
         viscosity: check::non_negative("fluid.viscosity", f.viscosity)?,
         gravity: check::vector("fluid.gravity", f.gravity)?,
-        flow: match f.flow.flow {
-            FlowType::Quiescent => {
-                forbid("fluid.flow.velocity", f.flow.velocity.is_some(), "a quiescent flow")?;
-                Flow::Quiescent
-            }
-            FlowType::Uniform => {
-                let v = required("fluid.flow.velocity", f.flow.velocity, "a uniform flow")?;
-                Flow::Uniform(check::vector("fluid.flow.velocity", v)?)
-            }
-        },
+        flow: build_flow(&f.flow)?,
+    })
+}
+
+fn build_flow(f: &FlowSpec) -> Result<Flow, Invalid> {
+    let k = |field: &str| format!("fluid.flow.{field}");
+    let (allowed, what): (&[&str], &str) = match f.flow {
+        FlowType::Quiescent => (&[], "a quiescent flow"),
+        FlowType::Uniform => (&["velocity"], "a uniform flow"),
+        FlowType::Poiseuille => {
+            (&["point", "axis", "radius", "mean_velocity", "max_velocity"], "a poiseuille flow")
+        }
+    };
+    let present = [
+        ("velocity", f.velocity.is_some()),
+        ("point", f.point.is_some()),
+        ("axis", f.axis.is_some()),
+        ("radius", f.radius.is_some()),
+        ("mean_velocity", f.mean_velocity.is_some()),
+        ("max_velocity", f.max_velocity.is_some()),
+    ];
+    if let Some((extra, _)) = present.iter().find(|(name, here)| *here && !allowed.contains(name)) {
+        let keys = if allowed.is_empty() {
+            "it has no other keys".to_string()
+        } else {
+            format!("its keys are: {}", allowed.join(", "))
+        };
+        return Err(Invalid::new(k(extra), format!("not a key of {what}; {keys}")));
+    }
+    Ok(match f.flow {
+        FlowType::Quiescent => Flow::Quiescent,
+        FlowType::Uniform => {
+            let v = required(&k("velocity"), f.velocity, what)?;
+            Flow::Uniform(check::vector(&k("velocity"), v)?)
+        }
+        FlowType::Poiseuille => {
+            let point = check::vector(&k("point"), required(&k("point"), f.point, what)?)?;
+            let axis = check::direction(&k("axis"), f.axis.unwrap_or([0.0, 0.0, 1.0]))?;
+            let radius = check::positive(&k("radius"), required(&k("radius"), f.radius, what)?)?;
+            let max_velocity = match (f.mean_velocity, f.max_velocity) {
+                (Some(mean), None) => 2.0 * check::finite(&k("mean_velocity"), mean)?,
+                (None, Some(max)) => check::finite(&k("max_velocity"), max)?,
+                (Some(_), Some(_)) => {
+                    return Err(Invalid::new(
+                        k("max_velocity"),
+                        "give either mean_velocity or max_velocity, not both (max = 2 × mean)",
+                    ));
+                }
+                (None, None) => {
+                    return Err(Invalid::new(
+                        k("mean_velocity"),
+                        "missing: a poiseuille flow needs mean_velocity or max_velocity",
+                    ));
+                }
+            };
+            Flow::Poiseuille(Poiseuille { point, axis, radius, max_velocity })
+        }
     })
 }
 
@@ -233,6 +284,10 @@ fn build_walls(specs: &[WallSpec], base: &Path) -> Result<Vec<Wall>, Invalid> {
             WallType::Box => (&["min", "max", "inside"], "a box"),
             WallType::Cylinder => (&["base", "axis", "radius", "length"], "a cylinder"),
             WallType::Mesh => (&["file", "scale", "translate"], "a mesh"),
+            WallType::Annulus => (
+                &["center", "normal", "inner_radius", "outer_radius", "cone_height", "segments"],
+                "an annulus",
+            ),
         };
         if let Some(extra) = spec.present().into_iter().find(|f| !allowed.contains(f)) {
             return Err(Invalid::new(
@@ -282,6 +337,28 @@ fn build_walls(specs: &[WallSpec], base: &Path) -> Result<Vec<Wall>, Invalid> {
                 let mesh = load_mesh(&base.join(&file), scale, translate)
                     .map_err(|e| Invalid::new(k("file"), e.to_string()))?;
                 Shape::Mesh(Box::new(mesh))
+            }
+            WallType::Annulus => {
+                let center = check::vector(&k("center"), need("center", spec.center)?)?;
+                let normal = check::direction(&k("normal"), need("normal", spec.normal)?)?;
+                let outer = required(&k("outer_radius"), spec.outer_radius, what)?;
+                let outer = check::positive(&k("outer_radius"), outer)?;
+                let inner = check::non_negative(&k("inner_radius"), spec.inner_radius.unwrap_or(0.0))?;
+                if inner >= outer {
+                    return Err(Invalid::new(
+                        k("inner_radius"),
+                        format!("must be < outer_radius {outer}, got {inner}"),
+                    ));
+                }
+                let segments = spec.segments.unwrap_or(128);
+                if !(3..=100_000).contains(&segments) {
+                    return Err(Invalid::new(
+                        k("segments"),
+                        format!("must be between 3 and 100000, got {segments}"),
+                    ));
+                }
+                let cone_height = check::finite(&k("cone_height"), spec.cone_height.unwrap_or(0.0))?;
+                Shape::Mesh(Box::new(annulus_mesh(center, normal, inner, outer, cone_height, segments)))
             }
         };
         let (name, material) = (&spec.name, &spec.material);

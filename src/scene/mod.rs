@@ -6,6 +6,7 @@
 mod build;
 mod error;
 mod fill;
+mod flux;
 mod report;
 mod schema;
 
@@ -18,6 +19,8 @@ use crate::fluid::Fluid;
 use crate::integrate::IntegratorKind;
 use crate::particles::{ParticleKind, Particles};
 use crate::pipeline::Simulation;
+use crate::pipeline::inject::Injector;
+use crate::pipeline::outlets::Outlet;
 use crate::walls::Wall;
 use std::path::{Path, PathBuf};
 
@@ -48,6 +51,10 @@ pub struct Scene {
     pub rule: BounceRule,
     /// Initial particles.
     pub particles: Particles,
+    /// Injectors (`[[injectors]]`), nothing injected yet.
+    pub injectors: Vec<Injector>,
+    /// Outlets (`[[outlets]]`).
+    pub outlets: Vec<Outlet>,
 }
 
 impl Scene {
@@ -75,7 +82,7 @@ impl Scene {
 
     /// The simulation at time 0.
     pub fn simulation(&self) -> Simulation {
-        Simulation::new(
+        let mut sim = Simulation::new(
             self.particles.clone(),
             self.kinds.clone(),
             self.walls.clone(),
@@ -84,6 +91,9 @@ impl Scene {
             self.rule,
             self.integrator,
             self.dt,
-        )
+        );
+        sim.injectors = self.injectors.clone();
+        sim.outlets = self.outlets.clone();
+        sim
     }
 }

@@ -23,6 +23,10 @@ pub struct SceneFile {
     pub lattice: Vec<LatticeSpec>,
     #[serde(default)]
     pub random_fill: Vec<RandomFillSpec>,
+    #[serde(default)]
+    pub injectors: Vec<InjectorSpec>,
+    #[serde(default)]
+    pub outlets: Vec<OutletSpec>,
 }
 
 #[derive(Debug, Clone, Deserialize)]
@@ -62,6 +66,11 @@ pub struct FlowSpec {
     #[serde(rename = "type", default)]
     pub flow: FlowType,
     pub velocity: Option<[f64; 3]>,
+    pub point: Option<[f64; 3]>,
+    pub axis: Option<[f64; 3]>,
+    pub radius: Option<f64>,
+    pub mean_velocity: Option<f64>,
+    pub max_velocity: Option<f64>,
 }
 
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Deserialize)]
@@ -70,6 +79,7 @@ pub enum FlowType {
     #[default]
     Quiescent,
     Uniform,
+    Poiseuille,
 }
 
 #[derive(Debug, Clone, Deserialize)]
@@ -147,6 +157,11 @@ pub struct WallSpec {
     pub file: Option<String>,
     pub scale: Option<f64>,
     pub translate: Option<[f64; 3]>,
+    pub center: Option<[f64; 3]>,
+    pub inner_radius: Option<f64>,
+    pub outer_radius: Option<f64>,
+    pub segments: Option<u32>,
+    pub cone_height: Option<f64>,
     #[serde(default)]
     pub material: MaterialSpec,
 }
@@ -158,6 +173,7 @@ pub enum WallType {
     Box,
     Cylinder,
     Mesh,
+    Annulus,
 }
 
 impl WallSpec {
@@ -181,6 +197,11 @@ impl WallSpec {
         note("file", self.file.is_some());
         note("scale", self.scale.is_some());
         note("translate", self.translate.is_some());
+        note("center", self.center.is_some());
+        note("inner_radius", self.inner_radius.is_some());
+        note("outer_radius", self.outer_radius.is_some());
+        note("segments", self.segments.is_some());
+        note("cone_height", self.cone_height.is_some());
         keys
     }
 }
@@ -218,4 +239,83 @@ pub struct RandomFillSpec {
     pub seed: u64,
     #[serde(default)]
     pub velocity: [f64; 3],
+}
+
+/// One `[[injectors]]` entry.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct InjectorSpec {
+    pub name: Option<String>,
+    pub kind: String,
+    pub rate: f64,
+    pub region: RegionSpec,
+    pub diameter: SizeSpec,
+    #[serde(default)]
+    pub velocity: [f64; 3],
+    pub seed: u64,
+    #[serde(default)]
+    pub start: f64,
+    pub stop: Option<f64>,
+}
+
+/// `injectors[i].region`: one flat table whose `type` says which keys it needs.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RegionSpec {
+    #[serde(rename = "type")]
+    pub region: RegionType,
+    pub center: Option<[f64; 3]>,
+    pub normal: Option<[f64; 3]>,
+    pub radius: Option<f64>,
+    pub min: Option<[f64; 3]>,
+    pub max: Option<[f64; 3]>,
+}
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum RegionType {
+    Disk,
+    Box,
+}
+
+/// `injectors[i].diameter`: one flat table whose `distribution` says which keys it needs.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SizeSpec {
+    pub distribution: SizeType,
+    pub value: Option<f64>,
+    pub mean: Option<f64>,
+    pub std_dev: Option<f64>,
+    pub median: Option<f64>,
+    pub sigma: Option<f64>,
+    pub min: Option<f64>,
+    pub max: Option<f64>,
+}
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum SizeType {
+    Fixed,
+    Uniform,
+    Normal,
+    LogNormal,
+}
+
+/// One `[[outlets]]` entry.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct OutletSpec {
+    pub name: Option<String>,
+    #[serde(rename = "type")]
+    pub outlet: OutletType,
+    pub point: Option<[f64; 3]>,
+    pub normal: Option<[f64; 3]>,
+    pub wall: Option<String>,
+}
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum OutletType {
+    Plane,
+    Wall,
 }

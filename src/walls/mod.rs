@@ -10,11 +10,13 @@
 //! Planes, boxes and the inside of a cylinder are closed form: a faceted mesh of a cylinder
 //! gives normals off by up to π/N. Meshes go through parry's `TriMesh` and `cast_shapes`.
 
+mod annulus;
 mod cuboid;
 mod cylinder;
 mod mesh;
 mod plane;
 
+pub use annulus::annulus_mesh;
 pub use cuboid::Cuboid;
 pub use cylinder::Cylinder;
 pub use mesh::{MeshError, MeshWall, load_mesh};
