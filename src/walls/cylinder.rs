@@ -34,11 +34,13 @@ impl Cylinder {
 impl Surface for Cylinder {
     #[inline]
     fn gap(&self, c: DVec3, r: f64) -> Gap {
-        let (perp, _) = self.split(c);
+        let (perp, along) = self.split(c);
         let rho = perp.length();
         // On the axis every direction is the nearest; pick one perpendicular to the axis.
         let outward = if rho > 0.0 { perp / rho } else { self.axis.any_orthonormal_vector() };
-        Gap { gap: self.radius - rho - r, normal: -outward }
+        // Beyond its ends the lateral wall is not there: nothing to touch or rest on.
+        let gap = if along < self.lo || along > self.hi { f64::INFINITY } else { self.radius - rho - r };
+        Gap { gap, normal: -outward }
     }
 
     fn sweep(&self, c0: DVec3, c1: DVec3, r: f64) -> Option<Crossing> {
@@ -95,5 +97,13 @@ mod tests {
         assert!((hit.enter - 0.375).abs() < 1e-14);
         let g = cyl.gap(DVec3::new(0.75, 0.0, 1.0), 0.25);
         assert!(g.gap.abs() < 1e-15 && (g.normal + DVec3::X).length() < 1e-15);
+    }
+
+    #[test]
+    fn beyond_its_ends_a_finite_cylinder_is_not_there() {
+        let cyl = Cylinder { base: DVec3::ZERO, axis: DVec3::Z, radius: 1.0, lo: 0.0, hi: 2.0 };
+        assert_eq!(cyl.gap(DVec3::new(5.0, 0.0, 3.0), 0.1).gap, f64::INFINITY);
+        assert_eq!(cyl.gap(DVec3::new(5.0, 0.0, -1.0), 0.1).gap, f64::INFINITY);
+        assert!(cyl.gap(DVec3::new(5.0, 0.0, 1.0), 0.1).gap < 0.0);
     }
 }
