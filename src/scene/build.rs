@@ -100,7 +100,7 @@ pub(super) fn build(file: SceneFile, base: &Path, source: &str) -> Result<Scene,
     }
 
     let mut particles = Particles::default();
-    let origins = fill::add_particles(&file, &kinds, &mut particles)?;
+    let origins = fill::add_particles(&file, &kinds, &walls, &mut particles)?;
     check_clear_of_walls(&origins, &particles, &walls)?;
     let injectors = flux::build_injectors(&file.injectors, &kinds, duration)?;
     let outlets = flux::build_outlets(&file.outlets, &walls)?;

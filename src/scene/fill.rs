@@ -3,6 +3,7 @@
 use super::error::{Invalid, check};
 use super::schema::SceneFile;
 use crate::particles::{ParticleKind, Particles};
+use crate::walls::{Surface, Wall};
 use glam::{DVec3, IVec3};
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
@@ -18,6 +19,7 @@ pub(super) type Origins = Vec<(usize, String)>;
 pub(super) fn add_particles(
     file: &SceneFile,
     kinds: &[ParticleKind],
+    walls: &[Wall],
     p: &mut Particles,
 ) -> Result<Origins, Invalid> {
     let mut origins = Origins::new();
@@ -92,7 +94,7 @@ pub(super) fn add_particles(
             ));
         }
         origins.push((p.len(), format!("random_fill[{i}]")));
-        place_random(p, kind, d, lo, hi, v, s.count as usize, s.seed)
+        place_random(p, walls, kind, d, (lo, hi), v, s.count as usize, s.seed)
             .map_err(|placed| Invalid::new(k("count"), format!(
                 "could place only {placed} of {} non-overlapping particles in the region; enlarge it or lower the count",
                 s.count
@@ -112,16 +114,16 @@ fn region(kmin: &str, kmax: &str, min: [f64; 3], max: [f64; 3]) -> Result<(DVec3
     Ok((lo, hi))
 }
 
-/// Random non-overlapping centres in `[lo, hi]` (already shrunk by the radius), avoiding the
-/// particles placed before. Rejection sampling with a hash grid; `Err(placed)` when the region
-/// is too full.
+/// Random non-overlapping centres in `[lo, hi]` (already shrunk by the radius), clear of the
+/// walls and of the particles placed before. Rejection sampling with a hash grid; `Err(placed)`
+/// when the region is too full.
 #[allow(clippy::too_many_arguments)]
 fn place_random(
     p: &mut Particles,
+    walls: &[Wall],
     kind: u16,
     d: f64,
-    lo: DVec3,
-    hi: DVec3,
+    (lo, hi): (DVec3, DVec3),
     v: DVec3,
     count: usize,
     seed: u64,
@@ -146,15 +148,17 @@ fn place_random(
             rng.random_range(lo.z..=hi.z),
         );
         let c = key(x);
-        let clear = (-1..=1).all(|dz| {
-            (-1..=1).all(|dy| {
-                (-1..=1).all(|dx| {
-                    grid.get(&(c + IVec3::new(dx, dy, dz))).is_none_or(|list| {
-                        list.iter().all(|&j| (p.pos[j] - x).length() >= 0.5 * (p.diameter[j] + d))
+        let clear_of_walls = walls.iter().all(|w| w.shape.gap(x, 0.5 * d).gap >= 0.0);
+        let clear = clear_of_walls
+            && (-1..=1).all(|dz| {
+                (-1..=1).all(|dy| {
+                    (-1..=1).all(|dx| {
+                        grid.get(&(c + IVec3::new(dx, dy, dz))).is_none_or(|list| {
+                            list.iter().all(|&j| (p.pos[j] - x).length() >= 0.5 * (p.diameter[j] + d))
+                        })
                     })
                 })
-            })
-        });
+            });
         if clear {
             let id = p.len() as u32;
             let i = p.push(id, kind, d, x, v);
