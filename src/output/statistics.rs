@@ -5,57 +5,49 @@ use super::{OutputError, Sink};
 use crate::pipeline::{ContactEvent, Other, Outcome, Simulation};
 use std::fmt;
 
-/// Counts and means over all contact events of a run.
+/// Counts and means over all contact events of a run, in total and per wall.
 #[derive(Debug, Clone, Default, PartialEq)]
 pub struct Statistics {
-    /// Contacts that held the particle.
-    pub held: u64,
-    /// Instantaneous rebounds.
-    pub bounced: u64,
-    /// Contacts without rebound.
-    pub deposited: u64,
-    /// Sum of the finite Stokes numbers, and how many there were.
-    st_sum: f64,
-    st_count: u64,
-    /// Sum of ε over rebounds (held or bounced).
-    eps_sum: f64,
-    /// The same, per wall (indexed like the simulation's walls; grown as walls are hit).
-    pub per_wall: Vec<WallStatistics>,
+    /// Every contact, with walls and between particles.
+    pub all: ImpactTally,
+    /// Contacts with each wall (indexed like the simulation's walls; grown as walls are hit).
+    pub per_wall: Vec<ImpactTally>,
 }
 
-/// Contacts with one wall.
+/// Counts per outcome, mean St and mean ε of a set of contacts (a whole run, or one wall).
 #[derive(Debug, Clone, Default, PartialEq)]
-pub struct WallStatistics {
+pub struct ImpactTally {
     /// Impacts that held the particle.
     pub held: u64,
     /// Instantaneous rebounds.
     pub bounced: u64,
     /// Impacts without rebound.
     pub deposited: u64,
-    /// Sum of the contact times of the held impacts (s): time particles spent held at the wall.
+    /// Sum of the contact times of the held impacts (s): time particles spent held.
     pub held_time_s: f64,
     st_sum: f64,
     st_count: u64,
     eps_sum: f64,
 }
 
-impl WallStatistics {
+impl ImpactTally {
     /// All impacts on the wall.
     pub fn impacts(&self) -> u64 {
         self.held + self.bounced + self.deposited
     }
 
-    /// Mean Stokes number of its impacts with a finite one (NaN if none).
+    /// Mean Stokes number of the impacts with a finite one (NaN if none).
     pub fn mean_st(&self) -> f64 {
         self.st_sum / self.st_count as f64
     }
 
-    /// Mean restitution of its rebounds (NaN if none).
+    /// Mean restitution of the rebounds (NaN if none).
     pub fn mean_eps(&self) -> f64 {
         self.eps_sum / (self.held + self.bounced) as f64
     }
 
-    fn add(&mut self, e: &ContactEvent) {
+    /// Adds one contact.
+    pub fn add(&mut self, e: &ContactEvent) {
         match e.outcome {
             Outcome::Held => {
                 self.held += 1;
@@ -146,44 +138,23 @@ impl Distribution {
 impl Statistics {
     /// All contacts.
     pub fn contacts(&self) -> u64 {
-        self.held + self.bounced + self.deposited
+        self.all.impacts()
     }
 
-    /// Mean Stokes number of the contacts with a finite one (NaN if none).
-    pub fn mean_st(&self) -> f64 {
-        self.st_sum / self.st_count as f64
-    }
-
-    /// Mean restitution of the rebounds (NaN if none).
-    pub fn mean_eps(&self) -> f64 {
-        self.eps_sum / (self.held + self.bounced) as f64
-    }
-
-    /// Adds one event.
+    /// Adds one event to the total and, for a wall contact, to its wall.
     pub fn add(&mut self, e: &ContactEvent) {
-        match e.outcome {
-            Outcome::Held => self.held += 1,
-            Outcome::Bounced => self.bounced += 1,
-            Outcome::Deposited => self.deposited += 1,
-        }
-        if e.st.is_finite() {
-            self.st_sum += e.st;
-            self.st_count += 1;
-        }
-        if e.outcome != Outcome::Deposited {
-            self.eps_sum += e.eps;
-        }
+        self.all.add(e);
         if let Other::Wall(w) = e.other {
             let w = w as usize;
             if self.per_wall.len() <= w {
-                self.per_wall.resize(w + 1, WallStatistics::default());
+                self.per_wall.resize(w + 1, ImpactTally::default());
             }
             self.per_wall[w].add(e);
         }
     }
 
-    /// The statistics of wall `w` (all zero if it was never hit).
-    pub fn wall(&self, w: usize) -> WallStatistics {
+    /// The contacts with wall `w` (all zero if it was never hit).
+    pub fn wall(&self, w: usize) -> ImpactTally {
         self.per_wall.get(w).cloned().unwrap_or_default()
     }
 }
@@ -201,15 +172,15 @@ impl fmt::Display for Statistics {
             f,
             "contacts: {} (held {}, bounced {}, deposited {})",
             self.contacts(),
-            self.held,
-            self.bounced,
-            self.deposited
+            self.all.held,
+            self.all.bounced,
+            self.all.deposited
         )?;
         if self.contacts() > 0 {
-            write!(f, "; mean St {:.3}", self.mean_st())?;
+            write!(f, "; mean St {:.3}", self.all.mean_st())?;
         }
-        if self.held + self.bounced > 0 {
-            write!(f, ", mean ε of rebounds {:.3}", self.mean_eps())?;
+        if self.all.held + self.all.bounced > 0 {
+            write!(f, ", mean ε of rebounds {:.3}", self.all.mean_eps())?;
         }
         Ok(())
     }

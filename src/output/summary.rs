@@ -1,7 +1,7 @@
 //! The table printed at the end of a run.
 
 use super::Statistics;
-use super::statistics::{Distribution, WallStatistics};
+use super::statistics::{Distribution, ImpactTally};
 use crate::particles::State;
 use crate::pipeline::Simulation;
 use crate::pipeline::run::RunReport;
@@ -38,7 +38,7 @@ pub struct RunSummary {
     /// Injections skipped because no clear place was found (never placed overlapping).
     pub injection_skipped: u64,
     /// Each wall's name and impacts, in scene order.
-    pub walls: Vec<(String, WallStatistics)>,
+    pub walls: Vec<(String, ImpactTally)>,
     /// Each outlet's name and residence-time distribution (s), in scene order.
     pub outlets: Vec<(String, Distribution)>,
     /// Each injector's name and (due, injected, skipped) counts, in scene order.
@@ -96,7 +96,7 @@ impl RunSummary {
     pub fn to_json(&self) -> serde_json::Value {
         use serde_json::json;
         let num = |x: f64| if x.is_finite() { json!(x) } else { serde_json::Value::Null };
-        let s = &self.stats;
+        let s = &self.stats.all;
         let walls: Vec<_> = self
             .walls
             .iter()
@@ -139,7 +139,7 @@ impl RunSummary {
                 "injection_skipped": self.injection_skipped,
             },
             "impacts": {
-                "total": s.contacts(),
+                "total": s.impacts(),
                 "held": s.held,
                 "bounced": s.bounced,
                 "deposited": s.deposited,
@@ -155,7 +155,7 @@ impl RunSummary {
 
 impl fmt::Display for RunSummary {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        let s = &self.stats;
+        let s = &self.stats.all;
         let opt = |x: f64| if x.is_finite() { format!("{x:.3}") } else { "-".into() };
         let rate = if self.wall_time_s > 0.0 { self.steps as f64 / self.wall_time_s } else { 0.0 };
         writeln!(
@@ -169,7 +169,7 @@ impl fmt::Display for RunSummary {
         writeln!(
             f,
             "  impacts            {} (held {}, bounced {}, deposited {})",
-            s.contacts(),
+            s.impacts(),
             s.held,
             s.bounced,
             s.deposited
