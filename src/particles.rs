@@ -144,6 +144,10 @@ pub struct PairContact {
     pub b: u32,
     /// `Some` during a hold.
     pub hold: Option<PairHold>,
+    /// Normal force the contact carried in the last step (N, pushing the pair apart): the
+    /// projection starts from it (warm start), so a bed carrying its own weight converges in a
+    /// few sweeps instead of one sweep per layer.
+    pub force: f64,
 }
 
 /// The release of a held pair.
@@ -160,11 +164,11 @@ pub struct PairHold {
 impl PairContact {
     /// A resting contact.
     pub fn resting(a: u32, b: u32) -> Self {
-        PairContact { a, b, hold: None }
+        PairContact { a, b, hold: None, force: 0.0 }
     }
 
     /// A hold until `release_time`.
     pub fn held(a: u32, b: u32, release_time: f64, normal_speed: f64, tangential: DVec3) -> Self {
-        PairContact { a, b, hold: Some(PairHold { release_time, normal_speed, tangential }) }
+        PairContact { a, b, hold: Some(PairHold { release_time, normal_speed, tangential }), force: 0.0 }
     }
 }

@@ -316,7 +316,7 @@ impl WithMotion for StepWith<'_> {
             let first_event = events.len();
             contacts::run(&ctx, &mut particles, t0, t1, &mut scratch, &mut events, &mut contacts);
             let c3b = Instant::now();
-            persistent::run(&ctx, &particles, &mut scratch, &mut contacts, pairs);
+            persistent::run(&ctx, &particles, &mut scratch, &mut contacts, pairs, h);
             let c4 = Instant::now();
             // 6.
             if commit::run(&mut particles, &mut scratch, t1, &mut sim.lost, &mut contacts) {

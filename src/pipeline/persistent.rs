@@ -5,29 +5,36 @@
 
 use super::{Ctx, Motion, Scratch};
 use crate::particles::{NO_WALL, PairContact, Particles, State};
-use crate::walls::push_out;
+use crate::walls::{Surface, push_out};
 use glam::DVec3;
 
 /// Gap beyond which a resting pair has separated (relative to the sum of radii): hysteresis,
 /// so that neighbours at rest do not break and re-make their contact every step.
 const SEPARATED: f64 = 1e-3;
-/// Projection sweeps per step, at most; they stop early once every contact holds to
+/// Position sweeps per step, at most; they stop early once every contact holds to
 /// `TOLERANCE` of the sum of radii.
 const SWEEPS: usize = 20;
 /// Rounds of (find overlapping neighbours, project) per step.
 const ROUNDS: usize = 2;
 const TOLERANCE: f64 = 1e-3;
+/// Velocity sweeps per step, at most; they stop early once no sweep changes a velocity by
+/// more than `VELOCITY_TOLERANCE` times what gravity adds in the step, `g Δt`.
+const VELOCITY_SWEEPS: usize = 30;
+const VELOCITY_TOLERANCE: f64 = 1e-2;
 
 /// Keeps every lasting contact at the end of the step (positions and velocities in `scratch`).
 /// A neighbour pair found overlapping — left so by the events (a particle knocked off its course
 /// into a neighbour that was not a candidate), or by this projection pushing a particle into a
-/// neighbour — becomes a resting contact, and the projection runs again.
+/// neighbour — becomes a resting contact, and the projection runs again. Positions are
+/// projected first (without touching velocities, so that correcting a drift adds no kinetic
+/// energy), then velocities (`solve_velocities`). `h` is the step (s).
 pub(crate) fn run<M: Motion>(
     ctx: &Ctx<M>,
     p: &Particles,
     scratch: &mut Scratch,
     contacts: &mut Vec<PairContact>,
     neighbour_pairs: &[[u32; 2]],
+    h: f64,
 ) {
     let (x, v, state) = (&mut scratch.next_pos, &mut scratch.next_vel, &scratch.next_state);
     let reach_of = |a: u32, b: u32| 0.5 * (p.diameter[a as usize] + p.diameter[b as usize]);
@@ -43,7 +50,8 @@ pub(crate) fn run<M: Motion>(
             1.0 / ctx.inertia_of(p.kind[i] as usize, p.diameter[i])
         }
     };
-    for _round in 0..ROUNDS {
+    let mut involved: Vec<usize> = Vec::new();
+    for round in 0..ROUNDS {
         let known: std::collections::HashSet<[u32; 2]> = contacts.iter().map(|c| [c.a, c.b]).collect();
         let before = contacts.len();
         contacts.extend(
@@ -56,18 +64,21 @@ pub(crate) fn run<M: Motion>(
                 .map(|&[a, b]| PairContact::resting(a, b))
                 .collect::<Vec<_>>(),
         );
-        if contacts.is_empty() || (contacts.len() == before && _round > 0) {
+        if contacts.is_empty() {
             return;
+        }
+        if contacts.len() == before && round > 0 {
+            break;
         }
         // Bottom-up along gravity: a sweep then carries the support of the walls up through a
         // stack in one pass, instead of one layer per sweep.
         let up = -ctx.fluid.gravity.normalize_or(DVec3::NEG_Z);
         let height = |c: &PairContact| x[c.a as usize].dot(up).min(x[c.b as usize].dot(up));
         contacts.sort_by(|c, d| height(c).total_cmp(&height(d)).then((c.a, c.b).cmp(&(d.a, d.b))));
-        let mut involved: Vec<usize> = contacts.iter().flat_map(|c| [c.a as usize, c.b as usize]).collect();
+        involved = contacts.iter().flat_map(|c| [c.a as usize, c.b as usize]).collect();
         involved.sort_unstable();
         involved.dedup();
-        project(ctx, p, x, v, contacts, &involved, &w);
+        project_positions(ctx, p, x, contacts, &involved, &w);
         // Walls are hard: whatever the sweeps left, no particle ends inside one.
         for &i in involved.iter().filter(|&&i| w(i) > 0.0) {
             for wall in ctx.walls {
@@ -75,14 +86,15 @@ pub(crate) fn run<M: Motion>(
             }
         }
     }
+    solve_velocities(ctx, p, x, v, contacts, &involved, &w, h);
 }
 
-/// Gauss–Seidel sweeps over the contacts, then the walls of the particles involved.
-fn project<M: Motion>(
+/// Gauss–Seidel sweeps on positions over the walls of the particles involved, then the
+/// contacts: a resting contact may not overlap, a hold keeps the pair touching.
+fn project_positions<M: Motion>(
     ctx: &Ctx<M>,
     p: &Particles,
     x: &mut [DVec3],
-    v: &mut [DVec3],
     contacts: &[PairContact],
     involved: &[usize],
     w: &impl Fn(usize) -> f64,
@@ -90,15 +102,13 @@ fn project<M: Motion>(
     let reach = |c: &PairContact| 0.5 * (p.diameter[c.a as usize] + p.diameter[c.b as usize]);
     for _ in 0..SWEEPS {
         let mut worst: f64 = 0.0;
-        // Walls: no overlap, no approach.
         for &i in involved.iter().filter(|&&i| w(i) > 0.0) {
             let r = 0.5 * p.diameter[i];
             for wall in ctx.walls {
-                let before = x[i];
-                let moved;
-                (x[i], v[i], moved) = push_out(&wall.shape, x[i], v[i], r);
-                if moved {
-                    worst = worst.max((x[i] - before).length() / r);
+                let g = wall.shape.gap(x[i], r);
+                if g.gap < 0.0 {
+                    x[i] -= g.gap * g.normal;
+                    worst = worst.max(-g.gap / r);
                 }
             }
         }
@@ -120,14 +130,96 @@ fn project<M: Motion>(
                 x[a] += n * push * wa / (wa + wb);
                 x[b] -= n * push * wb / (wa + wb);
             }
-            let u = v[b] - v[a];
-            let j = if c.hold.is_some() { u } else { u.dot(n).min(0.0) * n };
-            v[a] += j * wa / (wa + wb);
-            v[b] -= j * wb / (wa + wb);
         }
         if worst < TOLERANCE {
             break;
         }
+    }
+}
+
+/// Sequential impulses (projected Gauss–Seidel) on the velocities of the particles involved:
+/// a hold makes the pair move together; a resting contact, and the walls they touch, may not
+/// approach. Each non-penetration impulse is *accumulated* over the sweeps and kept ≥ 0, so an
+/// impulse that an early sweep gave in excess is taken back by a later one — rather than left
+/// as a velocity that throws the pair apart, which is what kept a bed jittering at ~`g Δt`.
+/// A pair's impulse starts from the force it carried in the last step (warm start), and the
+/// force found is kept for the next.
+#[allow(clippy::too_many_arguments)]
+fn solve_velocities<M: Motion>(
+    ctx: &Ctx<M>,
+    p: &Particles,
+    x: &[DVec3],
+    v: &mut [DVec3],
+    contacts: &mut [PairContact],
+    involved: &[usize],
+    w: &impl Fn(usize) -> f64,
+    h: f64,
+) {
+    // The sweeps work on compact copies: the involved particles' velocities and inverse
+    // inertias, contacts by position in `involved`.
+    let local = |i: u32| involved.binary_search(&(i as usize)).expect("involved");
+    let inv: Vec<f64> = involved.iter().map(|&i| w(i)).collect();
+    let mut vel: Vec<DVec3> = involved.iter().map(|&i| v[i]).collect();
+    // Each wall a moving particle touches: (particle, normal towards it, accumulated impulse).
+    let mut walls: Vec<(usize, DVec3, f64)> = Vec::new();
+    for (k, &i) in involved.iter().enumerate().filter(|&(k, _)| inv[k] > 0.0) {
+        let r = 0.5 * p.diameter[i];
+        for wall in ctx.walls {
+            wall.shape.touching(x[i], r, TOLERANCE * r, |g| walls.push((k, g.normal, 0.0)));
+        }
+    }
+    // Each pair: (a, b, normal from a to b, accumulated impulse pushing them apart, N s).
+    let mut rows: Vec<(usize, usize, DVec3, f64)> = contacts
+        .iter()
+        .map(|c| {
+            let n = (x[c.b as usize] - x[c.a as usize]).normalize_or(DVec3::Z);
+            let warm = if c.hold.is_none() { (c.force * h).max(0.0) } else { 0.0 };
+            (local(c.a), local(c.b), n, warm)
+        })
+        .collect();
+    for &(a, b, n, j) in &rows {
+        vel[a] -= n * j * inv[a];
+        vel[b] += n * j * inv[b];
+    }
+    let tolerance = VELOCITY_TOLERANCE * ctx.fluid.gravity.length() * h;
+    for _ in 0..VELOCITY_SWEEPS {
+        let mut worst: f64 = 0.0;
+        for (k, n, acc) in walls.iter_mut() {
+            let new = (*acc - vel[*k].dot(*n) / inv[*k]).max(0.0);
+            let dv = (new - *acc) * inv[*k];
+            vel[*k] += *n * dv;
+            *acc = new;
+            worst = worst.max(dv.abs());
+        }
+        for (c, (a, b, n, acc)) in contacts.iter().zip(rows.iter_mut()) {
+            let (a, b, n) = (*a, *b, *n);
+            let (wa, wb) = (inv[a], inv[b]);
+            if wa + wb == 0.0 {
+                continue;
+            }
+            if c.hold.is_some() {
+                let u = vel[b] - vel[a];
+                vel[a] += u * wa / (wa + wb);
+                vel[b] -= u * wb / (wa + wb);
+                worst = worst.max(u.length());
+            } else {
+                let new = (*acc - (vel[b] - vel[a]).dot(n) / (wa + wb)).max(0.0);
+                let dj = new - *acc;
+                vel[a] -= n * dj * wa;
+                vel[b] += n * dj * wb;
+                *acc = new;
+                worst = worst.max(dj * (wa + wb)).max(-dj * (wa + wb));
+            }
+        }
+        if worst <= tolerance {
+            break;
+        }
+    }
+    for (k, &i) in involved.iter().enumerate() {
+        v[i] = vel[k];
+    }
+    for (c, row) in contacts.iter_mut().zip(rows) {
+        c.force = row.3 / h;
     }
 }
 

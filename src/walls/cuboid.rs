@@ -85,6 +85,21 @@ impl Surface for Cuboid {
             boxes_overlap(c0, c1, r, self.min, self.max)
         }
     }
+
+    fn touching(&self, c: DVec3, r: f64, within: f64, mut each: impl FnMut(Gap)) {
+        if !self.inside {
+            let g = self.outer_gap(c, r);
+            if g.gap < within {
+                each(g);
+            }
+            return;
+        }
+        for (dist, normal) in self.inner_faces(c) {
+            if dist - r < within {
+                each(Gap { gap: dist - r, normal });
+            }
+        }
+    }
 }
 
 #[cfg(test)]

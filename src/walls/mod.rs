@@ -86,6 +86,18 @@ pub trait Surface {
     fn sweep(&self, c0: DVec3, c1: DVec3, r: f64) -> Option<Crossing>;
     /// Broad phase: false only when the move `c0 → c1` certainly stays clear of the wall.
     fn may_touch(&self, c0: DVec3, c1: DVec3, r: f64) -> bool;
+    /// Every part of the wall within `within` (m) of the sphere's surface, as separate gaps:
+    /// a sphere in a box corner touches two or three faces at once, and a contact solver needs
+    /// each as a constraint. By default the nearest part only.
+    fn touching(&self, c: DVec3, r: f64, within: f64, mut each: impl FnMut(Gap))
+    where
+        Self: Sized,
+    {
+        let g = self.gap(c, r);
+        if g.gap < within {
+            each(g);
+        }
+    }
 }
 
 impl Surface for Shape {
@@ -113,6 +125,15 @@ impl Surface for Shape {
             Shape::Cuboid(s) => s.may_touch(c0, c1, r),
             Shape::Cylinder(s) => s.may_touch(c0, c1, r),
             Shape::Mesh(s) => s.may_touch(c0, c1, r),
+        }
+    }
+
+    fn touching(&self, c: DVec3, r: f64, within: f64, each: impl FnMut(Gap)) {
+        match self {
+            Shape::Plane(s) => s.touching(c, r, within, each),
+            Shape::Cuboid(s) => s.touching(c, r, within, each),
+            Shape::Cylinder(s) => s.touching(c, r, within, each),
+            Shape::Mesh(s) => s.touching(c, r, within, each),
         }
     }
 }
