@@ -2,14 +2,15 @@
 
 use super::{LostParticle, Scratch};
 use crate::particles::{NO_WALL, PairContact, Particles, State};
-use rayon::prelude::*;
 
-/// Swaps the scratch columns in, clears the wall of particles that became free, and removes
-/// any particle whose position or velocity is no longer finite, recording it in `lost`.
-/// Returns true when particles were removed (indices changed).
+/// Swaps the scratch columns in, clears the wall of the particles that slid off it (`fell`)
+/// and, when an earlier stage saw a non-finite value (`suspect`), removes every particle whose
+/// position or velocity is no longer finite, recording it in `lost`. Returns true when
+/// particles were removed (indices changed).
 pub(crate) fn run(
     p: &mut Particles,
     scratch: &mut Scratch,
+    (fell, suspect): (&[u32], bool),
     t1: f64,
     lost: &mut Vec<LostParticle>,
     contacts: &mut Vec<PairContact>,
@@ -17,20 +18,18 @@ pub(crate) fn run(
     std::mem::swap(&mut p.pos, &mut scratch.next_pos);
     std::mem::swap(&mut p.vel, &mut scratch.next_vel);
     std::mem::swap(&mut p.state, &mut scratch.next_state);
-    let any_bad = (&p.state, &mut p.wall, &p.pos, &p.vel)
-        .into_par_iter()
-        .with_min_len(4096)
-        .map(|(&s, wall, x, v)| {
-            if s == State::Free {
-                *wall = NO_WALL;
-            }
-            !(x.is_finite() && v.is_finite())
-        })
-        .reduce(|| false, |a, b| a || b);
-    if !any_bad {
+    for &i in fell {
+        if p.state[i as usize] == State::Free {
+            p.wall[i as usize] = NO_WALL;
+        }
+    }
+    if !suspect {
         return false;
     }
     let keep: Vec<bool> = (0..p.len()).map(|i| p.pos[i].is_finite() && p.vel[i].is_finite()).collect();
+    if keep.iter().all(|&k| k) {
+        return false;
+    }
     for i in (0..p.len()).filter(|&i| !keep[i]) {
         lost.push(LostParticle { time: t1, id: p.id[i] });
     }

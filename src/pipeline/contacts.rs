@@ -351,7 +351,8 @@ impl Ord for Time {
 }
 
 /// Stages 4 and 5 for the whole step: islands from the broad phase's wall candidates and
-/// candidate pairs, resolved in parallel, written back in index order.
+/// candidate pairs, resolved in parallel, written back in index order. Returns true when a
+/// particle's new state is not finite.
 pub(crate) fn run<M: Motion>(
     ctx: &Ctx<M>,
     p: &mut Particles,
@@ -360,7 +361,7 @@ pub(crate) fn run<M: Motion>(
     scratch: &mut super::Scratch,
     events: &mut Vec<ContactEvent>,
     contacts: &mut Vec<PairContact>,
-) {
+) -> bool {
     use rayon::prelude::*;
     let islands = islands(&scratch.candidates, &scratch.pair_candidates);
     let next = (&scratch.next_pos[..], &scratch.next_vel[..], &scratch.next_state[..]);
@@ -371,10 +372,12 @@ pub(crate) fn run<M: Motion>(
             ctx.resolve_island(p, tracks, pairs, t1)
         })
         .collect();
+    let mut suspect = false;
     for r in results {
         for tr in r.tracks {
             let i = tr.i;
             let (x, v) = clear_of_walls(ctx, tr.end.x, tr.end.v, tr.r());
+            suspect |= !(x.is_finite() && v.is_finite());
             scratch.next_pos[i] = x;
             scratch.next_vel[i] = v;
             scratch.next_state[i] = tr.end.state;
@@ -387,6 +390,7 @@ pub(crate) fn run<M: Motion>(
         events.extend(r.events);
         contacts.extend(r.contacts);
     }
+    suspect
 }
 
 /// Pushes a particle that an event left inside a wall (only possible when an island ran out of

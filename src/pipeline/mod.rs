@@ -297,7 +297,7 @@ impl WithMotion for StepWith<'_> {
             persistent::release(&ctx, &mut particles, &mut contacts, t1);
             // 1. + 2. + 3. (walls), one pass over the particles.
             let reference = if sim.pair_collisions { neighbours.reference() } else { &[] };
-            let moves = particle_pass::run(&ctx, &mut particles, t0, t1, &mut scratch, reference);
+            let pass = particle_pass::run(&ctx, &mut particles, t0, t1, &mut scratch, reference);
             let c1 = Instant::now();
             // 3. (pairs)
             if sim.pair_collisions {
@@ -305,7 +305,7 @@ impl WithMotion for StepWith<'_> {
                     &particles,
                     &mut scratch,
                     &mut neighbours,
-                    moves,
+                    (pass.moved, pass.step_move),
                     sim.skin_fraction,
                     &contacts,
                 );
@@ -314,12 +314,20 @@ impl WithMotion for StepWith<'_> {
             let c3 = Instant::now();
             // 4. + 5.
             let first_event = events.len();
-            contacts::run(&ctx, &mut particles, t0, t1, &mut scratch, &mut events, &mut contacts);
+            let mut suspect = pass.suspect;
+            suspect |= contacts::run(&ctx, &mut particles, t0, t1, &mut scratch, &mut events, &mut contacts);
             let c3b = Instant::now();
-            persistent::run(&ctx, &particles, &mut scratch, &mut contacts, pairs, h);
+            suspect |= persistent::run(&ctx, &particles, &mut scratch, &mut contacts, pairs, h);
             let c4 = Instant::now();
             // 6.
-            if commit::run(&mut particles, &mut scratch, t1, &mut sim.lost, &mut contacts) {
+            if commit::run(
+                &mut particles,
+                &mut scratch,
+                (&pass.fell, suspect),
+                t1,
+                &mut sim.lost,
+                &mut contacts,
+            ) {
                 neighbours.invalidate();
             }
             let c5 = Instant::now();

@@ -27,7 +27,8 @@ const VELOCITY_TOLERANCE: f64 = 1e-2;
 /// into a neighbour that was not a candidate), or by this projection pushing a particle into a
 /// neighbour — becomes a resting contact, and the projection runs again. Positions are
 /// projected first (without touching velocities, so that correcting a drift adds no kinetic
-/// energy), then velocities (`solve_velocities`). `h` is the step (s).
+/// energy), then velocities (`solve_velocities`). `h` is the step (s). Returns true when a
+/// particle's new state is not finite.
 pub(crate) fn run<M: Motion>(
     ctx: &Ctx<M>,
     p: &Particles,
@@ -35,7 +36,7 @@ pub(crate) fn run<M: Motion>(
     contacts: &mut Vec<PairContact>,
     neighbour_pairs: &[[u32; 2]],
     h: f64,
-) {
+) -> bool {
     let (x, v, state) = (&mut scratch.next_pos, &mut scratch.next_vel, &scratch.next_state);
     let reach_of = |a: u32, b: u32| 0.5 * (p.diameter[a as usize] + p.diameter[b as usize]);
     contacts.retain(|c| {
@@ -65,7 +66,7 @@ pub(crate) fn run<M: Motion>(
                 .collect::<Vec<_>>(),
         );
         if contacts.is_empty() {
-            return;
+            return false;
         }
         if contacts.len() == before && round > 0 {
             break;
@@ -87,6 +88,7 @@ pub(crate) fn run<M: Motion>(
         }
     }
     solve_velocities(ctx, p, x, v, contacts, &involved, &w, h);
+    involved.iter().any(|&i| !(x[i].is_finite() && v[i].is_finite()))
 }
 
 /// Gauss–Seidel sweeps on positions over the walls of the particles involved, then the

@@ -78,9 +78,9 @@ impl Surface for Cuboid {
         if self.inside {
             // The inside of the box shrunk by r is convex: the move stays clear of the faces iff
             // both ends lie in it.
-            let (lo, hi) = (self.min + DVec3::splat(r), self.max - DVec3::splat(r));
-            let clear = |c: DVec3| c.cmpgt(lo).all() && c.cmplt(hi).all();
-            !(clear(c0) && clear(c1))
+            // As the box spanned by the two ends (this runs for every particle at every step).
+            let (lo, hi) = (c0.min(c1) - self.min, self.max - c0.max(c1));
+            lo.min(hi).min_element() <= r
         } else {
             boxes_overlap(c0, c1, r, self.min, self.max)
         }
