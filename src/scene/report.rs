@@ -45,49 +45,42 @@ pub fn kind_reports(scene: &Scene) -> Vec<KindReport> {
             seen.push(key);
         }
     }
+    seen.into_iter().map(|(k, bits)| kind_report(scene, k, f64::from_bits(bits))).collect()
+}
+
+/// The report of a particle of kind `k` (index into the scene's kinds) and diameter `d` (m).
+/// The drag law is the scene's, Schiller–Naumann if the scene has no drag effect.
+pub fn kind_report(scene: &Scene, k: u16, d: f64) -> KindReport {
     let fluid = &scene.fluid;
     let law = scene.physics.drag.unwrap_or(DragLawKind::SchillerNaumann);
     let (material, wall) = scene
         .walls
         .first()
         .map_or((WallMaterial::default(), "rigid wall".to_string()), |w| (w.material, w.name.clone()));
-    seen.into_iter()
-        .map(|(k, bits)| {
-            let kind = &scene.kinds[k as usize];
-            let d = f64::from_bits(bits);
-            let g = fluid.gravity.length();
-            let tv =
-                terminal_velocity(kind.density, fluid.density, d, fluid.viscosity, g, |re| law.factor(re));
-            let impact = wall_impact(
-                kind,
-                d,
-                &material,
-                fluid,
-                &scene.rule,
-                DVec3::new(0.0, 0.0, -tv.speed),
-                DVec3::Z,
-            );
-            let c_m = scene.physics.added_mass_coefficient;
-            KindReport {
-                kind: kind.name.clone(),
-                diameter: d,
-                terminal_velocity: tv.speed,
-                rising: tv.rising,
-                reynolds: tv.reynolds,
-                stokes: impact.st,
-                eps: impact.eps,
-                contact_time: impact.contact_time,
-                relaxation_time: relaxation_time(
-                    kind.density,
-                    fluid.density,
-                    c_m,
-                    d,
-                    fluid.viscosity,
-                    law.factor(tv.reynolds),
-                ),
-                bounces: impact.outcome != Outcome::Deposited,
-                wall: wall.clone(),
-            }
-        })
-        .collect()
+    let kind = &scene.kinds[k as usize];
+    let g = fluid.gravity.length();
+    let tv = terminal_velocity(kind.density, fluid.density, d, fluid.viscosity, g, |re| law.factor(re));
+    let impact =
+        wall_impact(kind, d, &material, fluid, &scene.rule, DVec3::new(0.0, 0.0, -tv.speed), DVec3::Z);
+    let c_m = scene.physics.added_mass_coefficient;
+    KindReport {
+        kind: kind.name.clone(),
+        diameter: d,
+        terminal_velocity: tv.speed,
+        rising: tv.rising,
+        reynolds: tv.reynolds,
+        stokes: impact.st,
+        eps: impact.eps,
+        contact_time: impact.contact_time,
+        relaxation_time: relaxation_time(
+            kind.density,
+            fluid.density,
+            c_m,
+            d,
+            fluid.viscosity,
+            law.factor(tv.reynolds),
+        ),
+        bounces: impact.outcome != Outcome::Deposited,
+        wall,
+    }
 }
