@@ -161,10 +161,10 @@ fn line<'a>(
 }
 
 /// Least-squares slope of log(error) against log(dt) over the points whose error lies between
-/// the round-off floor and 1 % (the asymptotic range), with at least 3 points.
+/// the round-off floor and 5 % (the asymptotic range), with at least 3 points.
 fn fitted_order(points: &[(f64, f64)]) -> Option<f64> {
     let pts: Vec<(f64, f64)> =
-        points.iter().filter(|p| p.1 > 1e-11 && p.1 < 1e-2).map(|p| (p.0.ln(), p.1.ln())).collect();
+        points.iter().filter(|p| p.1 > 1e-11 && p.1 < 5e-2).map(|p| (p.0.ln(), p.1.ln())).collect();
     if pts.len() < 3 {
         return None;
     }
