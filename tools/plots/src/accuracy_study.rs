@@ -148,13 +148,7 @@ fn write_csv(path: &Path, rows: &[Row]) -> std::io::Result<()> {
 }
 
 /// A method's line: rows of one case, integrator, location and hold, by decreasing dt.
-fn line<'a>(
-    rows: &'a [Row],
-    case: Case,
-    integ: IntegratorKind,
-    loc: ImpactLocation,
-    hold: bool,
-) -> Vec<&'a Row> {
+fn line(rows: &[Row], case: Case, integ: IntegratorKind, loc: ImpactLocation, hold: bool) -> Vec<&Row> {
     rows.iter()
         .filter(|r| r.case == case && r.method == integ.name() && r.location == loc && r.hold == hold)
         .collect()
@@ -312,7 +306,7 @@ where
     root.fill(&WHITE)?;
     let (title, body) = root.split_vertically(40);
     title.draw(&Text::new(
-        format!("{} — error against cost (wall time per particle per simulated second)", case.title()),
+        format!("{}: relative error against cost", case.title()),
         (14, 10),
         ("sans-serif", 22).into_font(),
     ))?;
@@ -375,16 +369,16 @@ where
         }
         if loc == ImpactLocation::InStep && hold == case.default_hold() {
             for a in Accuracy::ALL {
-                if let Some(r) = case_rows.iter().find(|r| r.method == a.name()) {
-                    if let Some(e) = f(&r.errors) {
-                        let p = (r.cost, e.clamp(FLOOR, 1.0));
-                        chart.draw_series([TriangleMarker::new(p, 7, BLACK.filled())])?;
-                        chart.draw_series([Text::new(
-                            a.name().to_string(),
-                            p,
-                            ("sans-serif", 14).into_font(),
-                        )])?;
-                    }
+                if let Some(r) = case_rows.iter().find(|r| r.method == a.name())
+                    && let Some(e) = f(&r.errors)
+                {
+                    let p = (r.cost, e.clamp(FLOOR, 1.0));
+                    chart.draw_series([TriangleMarker::new(p, 7, BLACK.filled())])?;
+                    chart.draw_series([Text::new(
+                        a.name().to_string(),
+                        p,
+                        ("sans-serif", 14).into_font(),
+                    )])?;
                 }
             }
         }
@@ -466,7 +460,7 @@ fn main() -> ExitCode {
         std::fs::write(&p, text).map_err(io(&p))?;
         for case in Case::ALL {
             let n = if case.has_walls() { 4 } else { 1 };
-            let size = (460 * measures(case).len() as u32 + 40, 40 + 380 * n);
+            let size = ((460 * measures(case).len() as u32 + 40).max(640), 40 + 380 * n);
             plotting::png_and_svg(
                 &out.join(case.name()),
                 size,
