@@ -26,9 +26,8 @@
 //! the end of the step in which it crosses and resting drops leave a wall at a step's start.
 
 use super::Scene;
-use super::report::kind_report;
+use super::report::{kind_report, scene_sizes};
 use crate::integrate::IntegratorKind;
-use crate::pipeline::inject::SizeDistribution;
 use serde::Deserialize;
 
 /// `simulation.accuracy`: how accurate a `dt = "auto"` scene should be.
@@ -91,32 +90,6 @@ pub struct AutoStep {
     pub limited_by: String,
 }
 
-/// The (kind, diameter) pairs a scene can hold: initial particles, and each injector's
-/// smallest and largest size.
-fn sizes(scene: &Scene) -> Vec<(u16, f64)> {
-    let mut out: Vec<(u16, f64)> = Vec::new();
-    let mut add = |k: u16, d: f64| {
-        if !out.contains(&(k, d)) {
-            out.push((k, d));
-        }
-    };
-    for i in 0..scene.particles.len() {
-        add(scene.particles.kind[i], scene.particles.diameter[i]);
-    }
-    for inj in &scene.injectors {
-        match inj.diameter {
-            SizeDistribution::Fixed(d) => add(inj.kind, d),
-            SizeDistribution::Uniform { min, max }
-            | SizeDistribution::Normal { min, max, .. }
-            | SizeDistribution::LogNormal { min, max, .. } => {
-                add(inj.kind, min);
-                add(inj.kind, max);
-            }
-        }
-    }
-    out
-}
-
 /// The time step and integrator of `accuracy` for `scene`, or why there is none (the message
 /// for `simulation.dt`).
 pub fn auto_step(scene: &Scene, accuracy: Accuracy) -> Result<AutoStep, String> {
@@ -126,7 +99,7 @@ pub fn auto_step(scene: &Scene, accuracy: Accuracy) -> Result<AutoStep, String> 
             .into());
     }
     let mut best: Option<(f64, String)> = None;
-    for (k, d) in sizes(scene) {
+    for (k, d) in scene_sizes(scene) {
         let r = kind_report(scene, k, d);
         let who = format!("{} d = {:.3} mm", r.kind, d * 1e3);
         let mut scales = vec![

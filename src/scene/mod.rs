@@ -13,7 +13,7 @@ mod schema;
 
 pub use accuracy::{Accuracy, AutoStep};
 pub use error::SceneError;
-pub use report::{KindReport, kind_report, kind_reports};
+pub use report::{KindReport, kind_report, kind_reports, scene_sizes};
 
 use crate::contact::{BounceRule, ImpactLocation};
 use crate::effects::Physics;
