@@ -228,6 +228,21 @@ fn check_scene(path: &Path) -> Result<String, String> {
         scene.dt,
         scene.duration
     );
+    if let Some(a) = &scene.auto_step {
+        let _ = writeln!(
+            text,
+            "  dt = \"auto\", accuracy \"{}\": {} with dt = {:.4e} s = T/{:.0}, T = {:.4e} s, the {}",
+            a.accuracy.name(),
+            a.integrator.name(),
+            a.dt,
+            a.time_scale / a.dt,
+            a.time_scale,
+            a.limited_by
+        );
+    }
+    if scene.impact_location != wetbounce::contact::ImpactLocation::InStep {
+        let _ = writeln!(text, "  impact location: {}", scene.impact_location.name());
+    }
     let _ = writeln!(
         text,
         "  bounce: beta = {}, St_c = {}, e_t = {}, hold at contact: {}",

@@ -8,7 +8,8 @@
 //! the result does not depend on the thread count.
 
 use super::{ContactEvent, Ctx, Flight, Motion, Other, Outcome, Segment, fly};
-use crate::contact::{PairBody, locate_on_path, pair_impact, wall_impact};
+use crate::contact::end_of_step::detect_at_end;
+use crate::contact::{ImpactLocation, PairBody, locate_on_path, pair_impact, wall_impact};
 use crate::correlations::sphere_volume;
 use crate::particles::{NO_WALL, PairContact, Particles, State};
 use crate::walls::{Crossing, Surface};
@@ -112,8 +113,12 @@ impl<'a, M: Motion> Ctx<'a, M> {
                 if !wall.shape.may_touch(seg.x, tr.end.x, r) {
                     return None;
                 }
-                let crossing = wall.shape.sweep(seg.x, tr.end.x, r)?;
                 let gap = |x: DVec3| wall.shape.gap(x, r).gap;
+                if self.impact_location == ImpactLocation::EndOfStep {
+                    let g = wall.shape.gap(tr.end.x, r);
+                    return detect_at_end(g.gap, tr.end.v.dot(g.normal), t1).map(|t| (w, t));
+                }
+                let crossing = wall.shape.sweep(seg.x, tr.end.x, r)?;
                 let s = locate_on_path(|s| gap(self.at(tr, seg.t + s).0), h, crossing, gap(tr.end.x), r)?;
                 Some((w, seg.t + s))
             })

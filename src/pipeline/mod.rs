@@ -36,7 +36,7 @@ pub mod run;
 pub use events::{ContactEvent, LostParticle, Other, Outcome};
 pub use motion::{Motion, WithMotion, dispatch};
 
-use crate::contact::BounceRule;
+use crate::contact::{BounceRule, ImpactLocation};
 use crate::effects::Physics;
 use crate::fluid::Fluid;
 use crate::integrate::IntegratorKind;
@@ -97,6 +97,8 @@ pub struct Simulation {
     pub rule: BounceRule,
     /// Time integrator.
     pub integrator: IntegratorKind,
+    /// Where wall contacts are placed in time: inside the step (default) or at its end.
+    pub impact_location: ImpactLocation,
     /// Contact events of the steps since the sinks last drained them.
     pub events: Vec<ContactEvent>,
     /// Particles taken out because their state became non-finite.
@@ -127,6 +129,7 @@ pub(crate) struct Ctx<'a, M> {
     pub kinds: &'a [ParticleKind],
     pub fluid: &'a Fluid,
     pub rule: &'a BounceRule,
+    pub impact_location: ImpactLocation,
     kind_accel: Vec<DVec3>,
     kind_drag_rate: Vec<f64>,
     inertia_density: Vec<f64>,
@@ -218,6 +221,7 @@ impl Simulation {
             physics,
             rule,
             integrator,
+            impact_location: ImpactLocation::InStep,
             events: Vec::new(),
             lost: Vec::new(),
             stage_times: StageTimes::default(),
@@ -265,6 +269,7 @@ impl Simulation {
             kinds: &self.kinds,
             fluid: &self.fluid,
             rule: &self.rule,
+            impact_location: self.impact_location,
             kind_accel: (0..n).map(|k| self.physics.body_acceleration(k)).collect(),
             kind_drag_rate: (0..n).map(|k| self.physics.drag_rate(k, &self.fluid)).collect(),
             inertia_density: self.physics.kinds.iter().map(|k| k.inertia_density).collect(),

@@ -1,12 +1,14 @@
 //! From the parsed file to a validated [`Scene`].
 
 use super::Scene;
+use super::accuracy::auto_step;
 use super::error::{Invalid, SceneError, check};
 use super::schema::*;
 use super::{fill, flux};
 use crate::contact::BounceRule;
 use crate::effects::{Physics, build_effect};
 use crate::fluid::{Flow, Fluid, Poiseuille};
+use crate::integrate::IntegratorKind;
 use crate::particles::{Material, ParticleKind, Particles};
 use crate::walls::{Cuboid, Cylinder, Plane, Shape, Surface, Wall, WallMaterial, annulus_mesh, load_mesh};
 use glam::DVec3;
@@ -45,7 +47,31 @@ fn line_of(source: &str, at: usize) -> usize {
 
 pub(super) fn build(file: SceneFile, base: &Path, source: &str) -> Result<Scene, Invalid> {
     let sim = &file.simulation;
-    let dt = check::positive("simulation.dt", sim.dt)?;
+    let dt = match sim.dt {
+        DtSpec::Seconds(dt) => {
+            let dt = check::positive("simulation.dt", dt)?;
+            if let Some(a) = sim.accuracy {
+                return Err(Invalid::new(
+                    "simulation.accuracy",
+                    format!("only with dt = \"auto\" (it chooses dt), got \"{}\" with dt = {dt}", a.name()),
+                ));
+            }
+            dt
+        }
+        DtSpec::Auto => {
+            if let Some(i) = sim.integrator {
+                return Err(Invalid::new(
+                    "simulation.integrator",
+                    format!(
+                        "chosen by the accuracy setting with dt = \"auto\"; leave it out or give dt in s, \
+                         got \"{}\"",
+                        i.name()
+                    ),
+                ));
+            }
+            f64::NAN // chosen below, once the scene's time scales are known
+        }
+    };
     let duration = check::positive("simulation.duration", sim.duration)?;
     let output_interval = check::positive("simulation.output_interval", sim.output_interval)?;
 
@@ -105,13 +131,15 @@ pub(super) fn build(file: SceneFile, base: &Path, source: &str) -> Result<Scene,
     let injectors = flux::build_injectors(&file.injectors, &kinds, duration)?;
     let outlets = flux::build_outlets(&file.outlets, &walls)?;
 
-    Ok(Scene {
+    let mut scene = Scene {
         path: Default::default(),
         source: source.to_string(),
         dt,
         duration,
         output_interval,
-        integrator: sim.integrator,
+        integrator: sim.integrator.unwrap_or(IntegratorKind::Rk2),
+        impact_location: sim.impact_location,
+        auto_step: None,
         fluid,
         kinds,
         walls,
@@ -120,7 +148,15 @@ pub(super) fn build(file: SceneFile, base: &Path, source: &str) -> Result<Scene,
         particles,
         injectors,
         outlets,
-    })
+    };
+    if sim.dt == DtSpec::Auto {
+        let auto = auto_step(&scene, sim.accuracy.unwrap_or_default())
+            .map_err(|message| Invalid::new("simulation.dt", message))?;
+        scene.dt = auto.dt;
+        scene.integrator = auto.integrator;
+        scene.auto_step = Some(auto);
+    }
+    Ok(scene)
 }
 
 fn build_fluid(f: &FluidSpec) -> Result<Fluid, Invalid> {

@@ -3,6 +3,7 @@
 //! Loading never panics: a bad file gives a [`SceneError`] that names the file, the key path
 //! and the bad value. The format is documented field by field in `docs/scene-format.md`.
 
+pub mod accuracy;
 mod build;
 mod error;
 mod fill;
@@ -10,10 +11,11 @@ mod flux;
 mod report;
 mod schema;
 
+pub use accuracy::{Accuracy, AutoStep};
 pub use error::SceneError;
-pub use report::{KindReport, kind_reports};
+pub use report::{KindReport, kind_report, kind_reports, scene_sizes};
 
-use crate::contact::BounceRule;
+use crate::contact::{BounceRule, ImpactLocation};
 use crate::effects::Physics;
 use crate::fluid::Fluid;
 use crate::integrate::IntegratorKind;
@@ -39,6 +41,10 @@ pub struct Scene {
     pub output_interval: f64,
     /// Time integrator.
     pub integrator: IntegratorKind,
+    /// Where wall contacts are placed in time (`simulation.impact_location`).
+    pub impact_location: ImpactLocation,
+    /// With `dt = "auto"`: what the accuracy setting chose, and why.
+    pub auto_step: Option<AutoStep>,
     /// Carrier fluid.
     pub fluid: Fluid,
     /// Particle kinds.
@@ -92,6 +98,7 @@ impl Scene {
             self.integrator,
             self.dt,
         );
+        sim.impact_location = self.impact_location;
         sim.injectors = self.injectors.clone();
         sim.outlets = self.outlets.clone();
         sim

@@ -5,6 +5,7 @@ use crate::contact::wall_impact;
 use crate::correlations::{relaxation_time, terminal_velocity};
 use crate::effects::DragLawKind;
 use crate::pipeline::Outcome;
+use crate::pipeline::inject::SizeDistribution;
 use crate::walls::WallMaterial;
 use glam::DVec3;
 
@@ -35,59 +36,72 @@ pub struct KindReport {
     pub wall: String,
 }
 
-/// One report per (kind, diameter) of the scene's initial particles, in order of appearance.
+/// One report per (kind, diameter) of the scene's initial particles and of its injectors'
+/// smallest and largest sizes ([`scene_sizes`]), in order of appearance.
 /// The drag law is the scene's, Schiller–Naumann if the scene has no drag effect.
 pub fn kind_reports(scene: &Scene) -> Vec<KindReport> {
-    let mut seen: Vec<(u16, u64)> = Vec::new();
+    scene_sizes(scene).into_iter().map(|(k, d)| kind_report(scene, k, d)).collect()
+}
+
+/// The (kind, diameter) pairs a scene can hold, in order of appearance: its initial
+/// particles, then each injector's smallest and largest size (its only size if fixed).
+pub fn scene_sizes(scene: &Scene) -> Vec<(u16, f64)> {
+    let mut out: Vec<(u16, f64)> = Vec::new();
+    let mut add = |k: u16, d: f64| {
+        if !out.contains(&(k, d)) {
+            out.push((k, d));
+        }
+    };
     for i in 0..scene.particles.len() {
-        let key = (scene.particles.kind[i], scene.particles.diameter[i].to_bits());
-        if !seen.contains(&key) {
-            seen.push(key);
+        add(scene.particles.kind[i], scene.particles.diameter[i]);
+    }
+    for inj in &scene.injectors {
+        match inj.diameter {
+            SizeDistribution::Fixed(d) => add(inj.kind, d),
+            SizeDistribution::Uniform { min, max }
+            | SizeDistribution::Normal { min, max, .. }
+            | SizeDistribution::LogNormal { min, max, .. } => {
+                add(inj.kind, min);
+                add(inj.kind, max);
+            }
         }
     }
+    out
+}
+
+/// The report of a particle of kind `k` (index into the scene's kinds) and diameter `d` (m).
+/// The drag law is the scene's, Schiller–Naumann if the scene has no drag effect.
+pub fn kind_report(scene: &Scene, k: u16, d: f64) -> KindReport {
     let fluid = &scene.fluid;
     let law = scene.physics.drag.unwrap_or(DragLawKind::SchillerNaumann);
     let (material, wall) = scene
         .walls
         .first()
         .map_or((WallMaterial::default(), "rigid wall".to_string()), |w| (w.material, w.name.clone()));
-    seen.into_iter()
-        .map(|(k, bits)| {
-            let kind = &scene.kinds[k as usize];
-            let d = f64::from_bits(bits);
-            let g = fluid.gravity.length();
-            let tv =
-                terminal_velocity(kind.density, fluid.density, d, fluid.viscosity, g, |re| law.factor(re));
-            let impact = wall_impact(
-                kind,
-                d,
-                &material,
-                fluid,
-                &scene.rule,
-                DVec3::new(0.0, 0.0, -tv.speed),
-                DVec3::Z,
-            );
-            let c_m = scene.physics.added_mass_coefficient;
-            KindReport {
-                kind: kind.name.clone(),
-                diameter: d,
-                terminal_velocity: tv.speed,
-                rising: tv.rising,
-                reynolds: tv.reynolds,
-                stokes: impact.st,
-                eps: impact.eps,
-                contact_time: impact.contact_time,
-                relaxation_time: relaxation_time(
-                    kind.density,
-                    fluid.density,
-                    c_m,
-                    d,
-                    fluid.viscosity,
-                    law.factor(tv.reynolds),
-                ),
-                bounces: impact.outcome != Outcome::Deposited,
-                wall: wall.clone(),
-            }
-        })
-        .collect()
+    let kind = &scene.kinds[k as usize];
+    let g = fluid.gravity.length();
+    let tv = terminal_velocity(kind.density, fluid.density, d, fluid.viscosity, g, |re| law.factor(re));
+    let impact =
+        wall_impact(kind, d, &material, fluid, &scene.rule, DVec3::new(0.0, 0.0, -tv.speed), DVec3::Z);
+    let c_m = scene.physics.added_mass_coefficient;
+    KindReport {
+        kind: kind.name.clone(),
+        diameter: d,
+        terminal_velocity: tv.speed,
+        rising: tv.rising,
+        reynolds: tv.reynolds,
+        stokes: impact.st,
+        eps: impact.eps,
+        contact_time: impact.contact_time,
+        relaxation_time: relaxation_time(
+            kind.density,
+            fluid.density,
+            c_m,
+            d,
+            fluid.viscosity,
+            law.factor(tv.reynolds),
+        ),
+        bounces: impact.outcome != Outcome::Deposited,
+        wall,
+    }
 }

@@ -1,5 +1,7 @@
 //! The scene file's schema (serde). Units and meanings: `docs/scene-format.md`.
 
+use super::accuracy::Accuracy;
+use crate::contact::ImpactLocation;
 use crate::integrate::IntegratorKind;
 use serde::Deserialize;
 
@@ -32,15 +34,52 @@ pub struct SceneFile {
 #[derive(Debug, Clone, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct SimulationSpec {
-    pub dt: f64,
+    pub dt: DtSpec,
     pub duration: f64,
     pub output_interval: f64,
-    #[serde(default = "default_integrator")]
-    pub integrator: IntegratorKind,
+    /// Left out: `rk2`, or the accuracy setting's choice with `dt = "auto"`.
+    pub integrator: Option<IntegratorKind>,
+    /// Only with `dt = "auto"` (default there: balanced).
+    pub accuracy: Option<Accuracy>,
+    #[serde(default)]
+    pub impact_location: ImpactLocation,
 }
 
-fn default_integrator() -> IntegratorKind {
-    IntegratorKind::Rk2
+/// `simulation.dt`: a time step in s, or `"auto"` (chosen from the accuracy setting and the
+/// scene's time scales).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum DtSpec {
+    Seconds(f64),
+    Auto,
+}
+
+impl<'de> Deserialize<'de> for DtSpec {
+    fn deserialize<D: serde::Deserializer<'de>>(de: D) -> Result<Self, D::Error> {
+        struct V;
+        impl serde::de::Visitor<'_> for V {
+            type Value = DtSpec;
+            fn expecting(&self, f: &mut std::fmt::Formatter) -> std::fmt::Result {
+                f.write_str("a time step in s (a number) or \"auto\"")
+            }
+            fn visit_f64<E: serde::de::Error>(self, v: f64) -> Result<DtSpec, E> {
+                Ok(DtSpec::Seconds(v))
+            }
+            fn visit_i64<E: serde::de::Error>(self, v: i64) -> Result<DtSpec, E> {
+                Ok(DtSpec::Seconds(v as f64))
+            }
+            fn visit_u64<E: serde::de::Error>(self, v: u64) -> Result<DtSpec, E> {
+                Ok(DtSpec::Seconds(v as f64))
+            }
+            fn visit_str<E: serde::de::Error>(self, v: &str) -> Result<DtSpec, E> {
+                if v == "auto" {
+                    Ok(DtSpec::Auto)
+                } else {
+                    Err(E::invalid_value(serde::de::Unexpected::Str(v), &self))
+                }
+            }
+        }
+        de.deserialize_any(V)
+    }
 }
 
 #[derive(Debug, Clone, Deserialize)]

@@ -1,0 +1,47 @@
+//! What the plotting programs share: the font, and drawing one figure as PNG and SVG.
+
+use plotters::coord::Shift;
+use plotters::prelude::*;
+use plotters::style::{FontStyle, register_font};
+use std::path::Path;
+
+/// DejaVu Sans, as Debian installs it (the same font as `plot_paths`): loaded at run time so
+/// that nothing links a system library.
+pub const DEFAULT_FONT: &str = "/usr/share/fonts/truetype/dejavu/DejaVuSans.ttf";
+
+/// Registers `font` (a TrueType file) as plotters' "sans-serif".
+pub fn register(font: &Path) -> Result<(), String> {
+    let bytes = std::fs::read(font).map_err(|e| format!("{}: {e}", font.display()))?;
+    // plotters keeps the font for the life of the program.
+    register_font("sans-serif", FontStyle::Normal, Box::leak(bytes.into_boxed_slice()))
+        .map_err(|_| format!("{}: not a TrueType font", font.display()))
+}
+
+/// The result of a drawing function.
+pub type Drawn = Result<(), Box<dyn std::error::Error>>;
+
+/// Draws the same figure into `STEM.png` and `STEM.svg`.
+pub fn png_and_svg(
+    stem: &Path,
+    size: (u32, u32),
+    draw_png: impl Fn(DrawingArea<BitMapBackend, Shift>) -> Drawn,
+    draw_svg: impl Fn(DrawingArea<SVGBackend, Shift>) -> Drawn,
+) -> Result<(), String> {
+    let png = stem.with_extension("png");
+    let svg = stem.with_extension("svg");
+    draw_png(BitMapBackend::new(&png, size).into_drawing_area())
+        .map_err(|e| format!("{}: {e}", png.display()))?;
+    draw_svg(SVGBackend::new(&svg, size).into_drawing_area())
+        .map_err(|e| format!("{}: {e}", svg.display()))?;
+    Ok(())
+}
+
+/// A colour per line, readable on white.
+pub const PALETTE: [RGBColor; 6] = [
+    RGBColor(0x1f, 0x77, 0xb4),
+    RGBColor(0xd6, 0x27, 0x28),
+    RGBColor(0x2c, 0xa0, 0x2c),
+    RGBColor(0xff, 0x7f, 0x0e),
+    RGBColor(0x94, 0x67, 0xbd),
+    RGBColor(0x8c, 0x56, 0x4b),
+];
