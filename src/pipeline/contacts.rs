@@ -7,6 +7,7 @@
 //! by event in time order; islands run in parallel and are written back in index order, so
 //! the result does not depend on the thread count.
 
+use super::events::kinetic_energy;
 use super::{ContactEvent, Ctx, Flight, Motion, Other, Outcome, Segment, fly};
 use crate::contact::{PairBody, locate_on_path, pair_impact, wall_impact};
 use crate::correlations::sphere_volume;
@@ -163,6 +164,7 @@ impl<'a, M: Motion> Ctx<'a, M> {
         let g = wall.shape.gap(x, tr.r());
         let (xc, n) = (x - g.gap * g.normal, g.normal);
         let impact = wall_impact(&self.kinds[tr.k], tr.d, &wall.material, self.fluid, self.rule, v, n);
+        let m = self.inertia_of(tr.k, tr.d);
         events.push(ContactEvent {
             time: t,
             id: p.id[tr.i],
@@ -172,7 +174,10 @@ impl<'a, M: Motion> Ctx<'a, M> {
             eps: impact.eps,
             contact_time: impact.contact_time,
             outcome: impact.outcome,
+            energy_before: kinetic_energy(m, v),
+            energy_after: kinetic_energy(m, impact.velocity),
         });
+        debug_assert!(events.last().is_some_and(ContactEvent::energy_not_gained), "{:?}", events.last());
         let w = w as u32;
         let seg = match impact.outcome {
             Outcome::Bounced => Segment { t, x: xc, v: impact.velocity, state: State::Free, wall: NO_WALL },
@@ -217,6 +222,14 @@ impl<'a, M: Motion> Ctx<'a, M> {
         let overlap = a.r() + b.r() - (xb - xa).length();
         let (wa, wb) = (1.0 / ma, 1.0 / mb);
         let (xa, xb) = (xa - n * overlap * wa / (wa + wb), xb + n * overlap * wb / (wa + wb));
+        // After a hold, the energy that counts is at release: the common velocity plus the
+        // release's relative velocity shared in proportion to the inverse inertias.
+        let (va1, vb1) = if imp.outcome == Outcome::Held {
+            let s = wa + wb;
+            (imp.va + imp.release_relative * (wa / s), imp.vb - imp.release_relative * (wb / s))
+        } else {
+            (imp.va, imp.vb)
+        };
         events.push(ContactEvent {
             time: t,
             id: p.id[a.i],
@@ -226,7 +239,10 @@ impl<'a, M: Motion> Ctx<'a, M> {
             eps: imp.eps,
             contact_time: imp.contact_time,
             outcome: imp.outcome,
+            energy_before: kinetic_energy(ma, va) + kinetic_energy(mb, vb),
+            energy_after: kinetic_energy(ma, va1) + kinetic_energy(mb, vb1),
         });
+        debug_assert!(events.last().is_some_and(ContactEvent::energy_not_gained), "{:?}", events.last());
         // A particle on or held at a wall keeps that state; a free one is held with its partner.
         let state = |tr: &Track<M::Field>| match (imp.outcome, tr.seg.state) {
             (_, State::Resting) => State::Resting,

@@ -3,11 +3,14 @@
 use super::Scene;
 use super::error::{Invalid, SceneError, check};
 use super::schema::*;
+use super::stiffness::stiffest_drag;
 use super::{fill, flux};
 use crate::contact::BounceRule;
 use crate::effects::{Physics, build_effect};
 use crate::fluid::{Flow, Fluid, Poiseuille};
+use crate::integrate::IntegratorKind;
 use crate::particles::{Material, ParticleKind, Particles};
+use crate::pipeline::inject::Injector;
 use crate::walls::{Cuboid, Cylinder, Plane, Shape, Surface, Wall, WallMaterial, annulus_mesh, load_mesh};
 use glam::DVec3;
 use std::path::Path;
@@ -104,6 +107,7 @@ pub(super) fn build(file: SceneFile, base: &Path, source: &str) -> Result<Scene,
     check_clear_of_walls(&origins, &particles, &walls)?;
     let injectors = flux::build_injectors(&file.injectors, &kinds, duration)?;
     let outlets = flux::build_outlets(&file.outlets, &walls)?;
+    check_stable_step(dt, sim.integrator, &physics, &fluid, &kinds, &particles, &injectors)?;
 
     Ok(Scene {
         path: Default::default(),
@@ -371,6 +375,48 @@ fn build_walls(specs: &[WallSpec], base: &Path) -> Result<Vec<Wall>, Invalid> {
         walls.push(Wall { name: name.clone(), material: build_material(material, &key)?, shape });
     }
     Ok(walls)
+}
+
+/// An explicit integrator must be stable for the stiffest drag of the scene (`h λ` inside its
+/// real-axis stability interval, see [`super::stiffness`]); otherwise the error names the
+/// largest stable step and the exponential integrator, which is stable at any step.
+#[allow(clippy::too_many_arguments)]
+fn check_stable_step(
+    dt: f64,
+    integrator: IntegratorKind,
+    physics: &Physics,
+    fluid: &Fluid,
+    kinds: &[ParticleKind],
+    particles: &Particles,
+    injectors: &[Injector],
+) -> Result<(), Invalid> {
+    let Some(s) = stiffest_drag(physics, fluid, particles, injectors) else { return Ok(()) };
+    let limit = integrator.largest_stable_step(s.rate);
+    if dt < limit {
+        return Ok(());
+    }
+    Err(Invalid::new(
+        "simulation.dt",
+        format!(
+            "{dt} s is not below the largest stable step of the {} integrator, {} s \
+             ({:.3} τ, τ = {:.3e} s the shortest drag relaxation time, linearised, of kind \"{}\" \
+             at d = {} m and slip speed {:.3e} m/s); use a smaller dt, or integrator = \
+             \"exponential\", which is stable at any dt",
+            integrator.name(),
+            round_down(limit),
+            integrator.stability_interval(),
+            1.0 / s.rate,
+            kinds[s.kind].name,
+            s.diameter,
+            s.slip_speed,
+        ),
+    ))
+}
+
+/// `x` rounded down to 3 significant digits, so that the value shown is itself stable.
+fn round_down(x: f64) -> String {
+    let scale = 10f64.powf(x.log10().floor() - 2.0);
+    format!("{:.2e}", (x / scale).floor() * scale)
 }
 
 /// A particle may start touching a wall (gap 0) but not overlapping or behind it.

@@ -9,6 +9,7 @@ mod fill;
 mod flux;
 mod report;
 mod schema;
+pub mod stiffness;
 
 pub use error::SceneError;
 pub use report::{KindReport, kind_reports};

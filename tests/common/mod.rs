@@ -29,13 +29,17 @@ pub fn shipped_with(name: &str, key: &str, value: &str) -> Scene {
     Scene::from_str(&replaced.join("\n"), &path).unwrap_or_else(|e| panic!("{e}"))
 }
 
-/// Runs a simulation to `t_end`, collecting every contact event.
+/// Runs a simulation to `t_end`, collecting every contact event. Every contact of every test
+/// that runs through here is checked to give no kinetic energy (docs/stability.md, case 7).
 pub fn run_collect(sim: &mut Simulation, t_end: f64) -> Vec<wetbounce::ContactEvent> {
     let mut events = Vec::new();
     while sim.time < t_end {
         let next = (sim.time + 64.0 * sim.dt).min(t_end);
         sim.advance_to(next);
         events.append(&mut sim.events);
+    }
+    for e in &events {
+        assert!(e.energy_not_gained(), "a contact gained kinetic energy: {e:?}");
     }
     events
 }
