@@ -177,7 +177,11 @@ impl<'a, M: Motion> Ctx<'a, M> {
             energy_before: kinetic_energy(m, v),
             energy_after: kinetic_energy(m, impact.velocity),
         });
-        debug_assert!(events.last().is_some_and(ContactEvent::energy_not_gained), "{:?}", events.last());
+        debug_assert!(
+            events.last().is_some_and(ContactEvent::energy_not_gained_if_finite),
+            "{:?}",
+            events.last()
+        );
         let w = w as u32;
         let seg = match impact.outcome {
             Outcome::Bounced => Segment { t, x: xc, v: impact.velocity, state: State::Free, wall: NO_WALL },
@@ -242,7 +246,11 @@ impl<'a, M: Motion> Ctx<'a, M> {
             energy_before: kinetic_energy(ma, va) + kinetic_energy(mb, vb),
             energy_after: kinetic_energy(ma, va1) + kinetic_energy(mb, vb1),
         });
-        debug_assert!(events.last().is_some_and(ContactEvent::energy_not_gained), "{:?}", events.last());
+        debug_assert!(
+            events.last().is_some_and(ContactEvent::energy_not_gained_if_finite),
+            "{:?}",
+            events.last()
+        );
         // A particle on or held at a wall keeps that state; a free one is held with its partner.
         let state = |tr: &Track<M::Field>| match (imp.outcome, tr.seg.state) {
             (_, State::Resting) => State::Resting,

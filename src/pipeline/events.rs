@@ -64,6 +64,12 @@ impl ContactEvent {
     pub fn energy_not_gained(&self) -> bool {
         self.energy_after <= self.energy_before * (1.0 + 1e-12) + f64::MIN_POSITIVE
     }
+
+    /// [`Self::energy_not_gained`], or a state already non-finite (which the commit stage takes
+    /// out and reports).
+    pub fn energy_not_gained_if_finite(&self) -> bool {
+        !(self.energy_before.is_finite() && self.energy_after.is_finite()) || self.energy_not_gained()
+    }
 }
 
 /// Kinetic energy `½ m |v|²` (J) of inertia `m` (kg) at `v` (m/s); 0 for an immobile body

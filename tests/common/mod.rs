@@ -29,6 +29,38 @@ pub fn shipped_with(name: &str, key: &str, value: &str) -> Scene {
     Scene::from_str(&replaced.join("\n"), &path).unwrap_or_else(|e| panic!("{e}"))
 }
 
+/// The smallest gap (m, negative inside) between any particle and any wall, relative to its
+/// radius, with the particle and wall it belongs to.
+pub fn deepest_overlap(sim: &Simulation) -> (f64, usize, usize) {
+    use wetbounce::walls::Surface;
+    let p = &sim.particles;
+    let mut worst = (f64::INFINITY, 0, 0);
+    for i in 0..p.len() {
+        let r = 0.5 * p.diameter[i];
+        for (w, wall) in sim.walls.iter().enumerate() {
+            let g = wall.shape.gap(p.pos[i], r).gap / r;
+            if g < worst.0 {
+                worst = (g, i, w);
+            }
+        }
+    }
+    worst
+}
+
+/// Panics when a particle overlaps a wall by more than round-off (1e-9 of its radius).
+pub fn assert_clear_of_walls(sim: &Simulation) {
+    let (g, i, w) = deepest_overlap(sim);
+    assert!(
+        g >= -1e-9,
+        "t = {}: particle {} at {:?} is inside wall \"{}\" by {:.3e} radii",
+        sim.time,
+        sim.particles.id[i],
+        sim.particles.pos[i],
+        sim.walls[w].name,
+        -g
+    );
+}
+
 /// Runs a simulation to `t_end`, collecting every contact event. Every contact of every test
 /// that runs through here is checked to give no kinetic energy (docs/stability.md, case 7).
 pub fn run_collect(sim: &mut Simulation, t_end: f64) -> Vec<wetbounce::ContactEvent> {
