@@ -29,8 +29,9 @@ pub fn shipped_with(name: &str, key: &str, value: &str) -> Scene {
     Scene::from_str(&replaced.join("\n"), &path).unwrap_or_else(|e| panic!("{e}"))
 }
 
-/// The smallest gap (m, negative inside) between any particle and any wall, relative to its
-/// radius, with the particle and wall it belongs to.
+/// The smallest gap between any particle and any wall (negative inside), in particle radii, less
+/// the round-off of the position's coordinates (1e-13 |x|, a few hundred ulps: a particle
+/// that slid 20 km from the origin is not 'inside' by 1e-12 m), with the particle and the wall.
 pub fn deepest_overlap(sim: &Simulation) -> (f64, usize, usize) {
     use wetbounce::walls::Surface;
     let p = &sim.particles;
@@ -38,7 +39,7 @@ pub fn deepest_overlap(sim: &Simulation) -> (f64, usize, usize) {
     for i in 0..p.len() {
         let r = 0.5 * p.diameter[i];
         for (w, wall) in sim.walls.iter().enumerate() {
-            let g = wall.shape.gap(p.pos[i], r).gap / r;
+            let g = (wall.shape.gap(p.pos[i], r).gap + 1e-13 * p.pos[i].length()) / r;
             if g < worst.0 {
                 worst = (g, i, w);
             }
