@@ -6,7 +6,7 @@
 //! limit, with an error naming `simulation.dt`), and then, after every step: every state
 //! finite and none taken out, no particle inside a wall, no contact that gains kinetic energy.
 //!
-//! CI runs 64 cases; the long run (docs/stability.md) is
+//! CI runs 512 cases; the long run (docs/stability.md) is
 //! `WETBOUNCE_CASES=1000000 cargo test --release --test stability_properties -- --ignored`.
 
 mod common;
@@ -276,7 +276,7 @@ fn check(c: &Case) -> Result<(), TestCaseError> {
 }
 
 proptest! {
-    #![proptest_config(Config { cases: 64, failure_persistence: None, ..Config::default() })]
+    #![proptest_config(Config { cases: 512, failure_persistence: None, ..Config::default() })]
 
     #[test]
     fn random_particles_walls_and_steps_stay_finite_outside_walls_without_energy_gain(c in case()) {

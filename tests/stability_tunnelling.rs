@@ -119,6 +119,7 @@ fn hundred_thousand_random_fast_impacts_on_thin_walls_give_zero_crossings() {
         impacts += hits;
         crossings += crossed;
     }
+    println!("{impacts} impacts, {crossings} crossings");
     assert!(impacts >= 100_000, "{impacts} impacts");
     assert_eq!(crossings, 0, "{crossings} crossings in {impacts} impacts");
 }
