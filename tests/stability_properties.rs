@@ -299,3 +299,23 @@ fn long_run_of_random_cases() {
     println!("{cases} cases in {:.1} s: {result:?}", start.elapsed().as_secs_f64());
     result.unwrap();
 }
+
+/// Cases the long run found, kept as scenes (`tests/scenes/regress_*.toml`) and checked the
+/// same way (with the exponential integrator when the scene's step is refused).
+#[test]
+fn regressions_found_by_the_long_run_stay_finite_and_outside_the_walls() {
+    for name in ["regress_pair_with_held.toml", "regress_bead_in_ring_hole.toml"] {
+        let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/scenes").join(name);
+        let text = std::fs::read_to_string(&path).unwrap();
+        let scene = wetbounce::Scene::from_str(&text, &path)
+            .or_else(|_| wetbounce::Scene::from_str(&text.replace("\"euler\"", "\"exponential\""), &path))
+            .unwrap_or_else(|e| panic!("{e}"));
+        let mut sim = scene.simulation();
+        for _ in 0..STEPS {
+            let t = sim.time + sim.dt;
+            common::run_collect(&mut sim, t);
+            assert!(sim.lost.is_empty(), "{name}: {:?}", sim.lost);
+            common::assert_clear_of_walls(&sim);
+        }
+    }
+}

@@ -110,7 +110,7 @@ fn explicit_integrators_converge_just_below_the_limit_and_diverge_just_above_it(
         let mut sim = scene.simulation();
         sim.dt = 1.05 * limit;
         common::run_collect(&mut sim, 20_000.0 * limit);
-        let grew = sim.particles.len() == 0 || sim.particles.vel[0].length() > 10.0 * vt;
+        let grew = sim.particles.is_empty() || sim.particles.vel[0].length() > 10.0 * vt;
         assert!(grew, "{integrator} at 1.05 of the limit did not diverge: {:?}", sim.particles.vel);
     }
 }

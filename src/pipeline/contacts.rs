@@ -126,7 +126,13 @@ impl<'a, M: Motion> Ctx<'a, M> {
         if a.immobile() && b.immobile() {
             return None;
         }
-        let t = a.seg.t.max(b.seg.t);
+        // A particle held at a wall is where it is whatever the time: its segment starts at its
+        // release, which may be after this step, and must not delay the other's path.
+        let start = |tr: &Track<M::Field>| if tr.immobile() { f64::NEG_INFINITY } else { tr.seg.t };
+        let t = start(a).max(start(b));
+        if t >= t1 {
+            return None;
+        }
         let reach = a.r() + b.r();
         let p = self.at(a, t).0 - self.at(b, t).0;
         let q = (a.end.x - b.end.x) - p;
