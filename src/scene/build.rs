@@ -36,7 +36,13 @@ pub(super) fn parse(source: &str, path: &Path) -> Result<SceneFile, SceneError> 
     let de = toml::de::Deserializer::parse(source).map_err(|e| located("(top level)".into(), &e))?;
     serde_path_to_error::deserialize(de).map_err(|e| {
         let key = e.path().to_string();
-        let key = if key == "." { "(top level)".to_string() } else { key };
+        // An empty key (`"" = 1`) has an empty path segment: name it `""`, never nothing.
+        let key = match key.as_str() {
+            "." => "(top level)".to_string(),
+            "" => "\"\"".to_string(),
+            k if k.ends_with('.') => format!("{k}\"\""),
+            _ => key,
+        };
         located(key, e.inner())
     })
 }
