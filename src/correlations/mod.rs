@@ -7,6 +7,7 @@
 
 mod contact_time;
 mod drag;
+mod drag_stiffness;
 mod restitution;
 mod stokes;
 mod terminal;
@@ -16,6 +17,7 @@ pub use contact_time::{
     immersed_solid_correction, spring_pair_contact_time,
 };
 pub use drag::{drag_factor_schiller_naumann, reynolds_number};
+pub use drag_stiffness::schiller_naumann_stiffness_factor;
 pub use restitution::{Restitution, restitution};
 pub use stokes::{pair_stokes_number, relaxation_time, stokes_number};
 pub use terminal::{TerminalVelocity, terminal_velocity};

@@ -1,7 +1,7 @@
 //! Drag: `−3π μ d f(Re) (v − u)` (PHYSICS.md §1), Stokes or Schiller–Naumann.
 
 use super::{Effect, Physics};
-use crate::correlations::drag_factor_schiller_naumann;
+use crate::correlations::{drag_factor_schiller_naumann, schiller_naumann_stiffness_factor};
 use crate::fluid::Fluid;
 use crate::particles::ParticleKind;
 use serde::Deserialize;
@@ -22,6 +22,15 @@ impl DragLawKind {
         match self {
             DragLawKind::Stokes => Stokes::factor(re),
             DragLawKind::SchillerNaumann => SchillerNaumann::factor(re),
+        }
+    }
+
+    /// `d(Re f)/dRe`: the drag's rate of growth with the slip speed relative to Stokes drag,
+    /// which sets the stability of the explicit integrators (1 for Stokes drag).
+    pub fn stiffness_factor(self, re: f64) -> f64 {
+        match self {
+            DragLawKind::Stokes => 1.0,
+            DragLawKind::SchillerNaumann => schiller_naumann_stiffness_factor(re),
         }
     }
 }

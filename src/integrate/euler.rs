@@ -10,6 +10,8 @@ pub struct Euler;
 
 impl Scheme for Euler {
     const ORDER: u32 = 1;
+    /// `|1 − λh| < 1`.
+    const STABILITY_INTERVAL: f64 = 2.0;
 
     #[inline]
     fn advance<F: ForceField>(self, f: &F, x: DVec3, v: DVec3, h: f64) -> (DVec3, DVec3) {

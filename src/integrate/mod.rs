@@ -51,6 +51,9 @@ pub trait ForceField {
 pub trait Scheme: Copy + Send + Sync + 'static {
     /// Order of accuracy on smooth problems.
     const ORDER: u32;
+    /// Real-axis stability interval: the scheme is stable on the linear decay `v' = −λ v` for
+    /// `λ h` below this (∞ when it is stable for every step).
+    const STABILITY_INTERVAL: f64;
     /// Advances `(x, v)` by `h` (s) under `f`; returns the new `(x, v)`.
     fn advance<F: ForceField>(self, f: &F, x: DVec3, v: DVec3, h: f64) -> (DVec3, DVec3);
 }
@@ -78,6 +81,26 @@ impl IntegratorKind {
             IntegratorKind::Rk4 => "rk4",
             IntegratorKind::Exponential => "exponential",
         }
+    }
+}
+
+impl IntegratorKind {
+    /// The real-axis stability interval of the scheme ([`Scheme::STABILITY_INTERVAL`]).
+    pub fn stability_interval(self) -> f64 {
+        match self {
+            IntegratorKind::Euler => Euler::STABILITY_INTERVAL,
+            IntegratorKind::Rk2 => Rk2::STABILITY_INTERVAL,
+            IntegratorKind::Rk4 => Rk4::STABILITY_INTERVAL,
+            IntegratorKind::Exponential => Exponential::STABILITY_INTERVAL,
+        }
+    }
+
+    /// The largest stable step (s) of this scheme for a particle relaxing at `rate` (1/s, the
+    /// linearised drag rate `λ = 1/τ`): `interval / λ`, strict (`h` must stay below it). ∞ for
+    /// the exponential scheme and for `rate = 0` (no drag: the explicit schemes then integrate
+    /// a constant force, exactly or with bounded error, at any step).
+    pub fn largest_stable_step(self, rate: f64) -> f64 {
+        if rate > 0.0 { self.stability_interval() / rate } else { f64::INFINITY }
     }
 }
 

@@ -15,6 +15,8 @@ pub struct Rk2;
 
 impl Scheme for Rk2 {
     const ORDER: u32 = 2;
+    /// `|1 − z + z²/2| < 1` for `0 < z = λh < 2`.
+    const STABILITY_INTERVAL: f64 = 2.0;
 
     #[inline]
     fn advance<F: ForceField>(self, f: &F, x: DVec3, v: DVec3, h: f64) -> (DVec3, DVec3) {

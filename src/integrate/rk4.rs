@@ -10,6 +10,8 @@ pub struct Rk4;
 
 impl Scheme for Rk4 {
     const ORDER: u32 = 4;
+    /// `|1 − z + z²/2 − z³/6 + z⁴/24| < 1` for `0 < z = λh < 2.7853`.
+    const STABILITY_INTERVAL: f64 = 2.785_293_563_405_282;
 
     #[inline]
     fn advance<F: ForceField>(self, f: &F, x: DVec3, v: DVec3, h: f64) -> (DVec3, DVec3) {

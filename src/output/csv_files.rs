@@ -1,7 +1,7 @@
 //! The CSV sinks.
 
 use super::{OutputError, Sink};
-use crate::pipeline::{ContactEvent, Other, Simulation};
+use crate::pipeline::{ContactEvent, LostParticle, Other, Simulation};
 use std::fs::File;
 use std::io::BufWriter;
 use std::path::{Path, PathBuf};
@@ -82,6 +82,17 @@ impl Sink for EventCsv {
                     e.contact_time,
                     e.outcome.name(),
                 ))
+                .map_err(|err| OutputError::new(&self.path, err))?;
+        }
+        Ok(())
+    }
+
+    /// A removal is a row of kind `removed`, outcome `non_finite`, with the contact columns empty.
+    fn lost(&mut self, _sim: &Simulation, lost: &[LostParticle]) -> Result<(), OutputError> {
+        let none: Option<f64> = None;
+        for l in lost {
+            self.w
+                .serialize((l.time, l.id, "", "removed", none, none, none, none, "non_finite"))
                 .map_err(|err| OutputError::new(&self.path, err))?;
         }
         Ok(())

@@ -14,7 +14,7 @@
 
 use super::geometry::{self, Solid, WALL_COLOR};
 use super::{OutputError, Sink};
-use crate::pipeline::{ContactEvent, Other, Simulation};
+use crate::pipeline::{ContactEvent, LostParticle, Other, Simulation};
 use foxglove::messages::packed_element_field::NumericType;
 use foxglove::messages::{
     Color, CubePrimitive, CylinderPrimitive, PackedElementField, Point3, PointCloud, Pose, Quaternion,
@@ -44,7 +44,9 @@ pub const FRAME_ID: &str = "world";
 const POINT_STRIDE: u32 = 8 * 3 + 4 + 8 + 8 + 1 + 2;
 
 /// JSON schema of an `/events` message: the columns of `events.csv`. Non-finite numbers (an
-/// infinite St in vacuum) are written as `null`, which JSON needs.
+/// infinite St in vacuum) are written as `null`, which JSON needs. A particle taken out because
+/// its state became non-finite is an event of kind `removed`, outcome `non_finite`, `other`
+/// empty and the numbers `null`.
 const EVENT_SCHEMA: &str = r#"{
   "title": "wetbounce.ContactEvent",
   "description": "One contact: the columns of events.csv",
@@ -53,12 +55,12 @@ const EVENT_SCHEMA: &str = r#"{
     "t": {"type": "number", "description": "impact time (s)"},
     "id": {"type": "integer", "description": "particle id"},
     "other": {"type": "string", "description": "wall name or other particle's id"},
-    "kind": {"type": "string", "enum": ["wall", "particle"]},
+    "kind": {"type": "string", "enum": ["wall", "particle", "removed"]},
     "normal_speed": {"type": ["number", "null"], "description": "V_inf (m/s)"},
     "st": {"type": ["number", "null"], "description": "Stokes number"},
     "eps": {"type": ["number", "null"], "description": "restitution applied"},
     "contact_time": {"type": ["number", "null"], "description": "t_c (s)"},
-    "outcome": {"type": "string", "enum": ["held", "bounced", "deposited"]}
+    "outcome": {"type": "string", "enum": ["held", "bounced", "deposited", "non_finite"]}
   },
   "required": ["t", "id", "other", "kind", "normal_speed", "st", "eps", "contact_time", "outcome"]
 }"#;
@@ -331,6 +333,27 @@ impl Sink for McapSink {
             serde_json::to_writer(&mut self.json, &message)
                 .map_err(|err| OutputError::new(&self.path, err))?;
             self.events.log_with_meta(&self.json, PartialMetadata::with_log_time(log_time_ns(e.time)));
+        }
+        Ok(())
+    }
+
+    fn lost(&mut self, _sim: &Simulation, lost: &[LostParticle]) -> Result<(), OutputError> {
+        for l in lost {
+            let message = EventMessage {
+                t: number(l.time),
+                id: l.id,
+                other: String::new(),
+                kind: "removed",
+                normal_speed: None,
+                st: None,
+                eps: None,
+                contact_time: None,
+                outcome: "non_finite",
+            };
+            self.json.clear();
+            serde_json::to_writer(&mut self.json, &message)
+                .map_err(|err| OutputError::new(&self.path, err))?;
+            self.events.log_with_meta(&self.json, PartialMetadata::with_log_time(log_time_ns(l.time)));
         }
         Ok(())
     }

@@ -26,7 +26,7 @@ pub use rerun::RerunSink;
 pub use statistics::Statistics;
 pub use summary::RunSummary;
 
-use crate::pipeline::{ContactEvent, Simulation};
+use crate::pipeline::{ContactEvent, LostParticle, Simulation};
 use std::path::PathBuf;
 
 /// A failure to write an output file.
@@ -58,6 +58,11 @@ pub trait Sink {
     }
     /// Contact events since the last call, in time order per particle.
     fn events(&mut self, _sim: &Simulation, _events: &[ContactEvent]) -> Result<(), OutputError> {
+        Ok(())
+    }
+    /// Particles taken out since the last call because their state became non-finite (the
+    /// commit stage's check; the run goes on without them).
+    fn lost(&mut self, _sim: &Simulation, _lost: &[LostParticle]) -> Result<(), OutputError> {
         Ok(())
     }
     /// The run is over (finished or interrupted): flush and close.

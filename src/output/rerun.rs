@@ -9,7 +9,7 @@
 
 use super::geometry::{self, Solid, WALL_COLOR};
 use super::{OutputError, Sink};
-use crate::pipeline::{ContactEvent, Other, Simulation};
+use crate::pipeline::{ContactEvent, LostParticle, Other, Simulation};
 use glam::{DQuat, DVec3};
 use std::path::PathBuf;
 
@@ -132,6 +132,16 @@ impl Sink for RerunSink {
             self.log("events", &rerun::TextLog::new(text).with_level(rerun::TextLogLevel::INFO))?;
         }
         // Frames come back to the frame time; events must not move it.
+        self.rec()?.set_duration_secs(TIMELINE, sim.time);
+        Ok(())
+    }
+
+    fn lost(&mut self, sim: &Simulation, lost: &[LostParticle]) -> Result<(), OutputError> {
+        for l in lost {
+            self.rec()?.set_duration_secs(TIMELINE, l.time);
+            let text = format!("particle {} removed: its state became non-finite", l.id);
+            self.log("events", &rerun::TextLog::new(text).with_level(rerun::TextLogLevel::INFO))?;
+        }
         self.rec()?.set_duration_secs(TIMELINE, sim.time);
         Ok(())
     }

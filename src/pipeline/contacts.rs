@@ -7,6 +7,7 @@
 //! by event in time order; islands run in parallel and are written back in index order, so
 //! the result does not depend on the thread count.
 
+use super::events::kinetic_energy;
 use super::{ContactEvent, Ctx, Flight, Motion, Other, Outcome, Segment, fly};
 use crate::contact::end_of_step::detect_at_end;
 use crate::contact::{ImpactLocation, PairBody, locate_on_path, pair_impact, wall_impact};
@@ -130,7 +131,13 @@ impl<'a, M: Motion> Ctx<'a, M> {
         if a.immobile() && b.immobile() {
             return None;
         }
-        let t = a.seg.t.max(b.seg.t);
+        // A particle held at a wall is where it is whatever the time: its segment starts at its
+        // release, which may be after this step, and must not delay the other's path.
+        let start = |tr: &Track<M::Field>| if tr.immobile() { f64::NEG_INFINITY } else { tr.seg.t };
+        let t = start(a).max(start(b));
+        if t >= t1 {
+            return None;
+        }
         let reach = a.r() + b.r();
         let p = self.at(a, t).0 - self.at(b, t).0;
         let q = (a.end.x - b.end.x) - p;
@@ -168,6 +175,7 @@ impl<'a, M: Motion> Ctx<'a, M> {
         let g = wall.shape.gap(x, tr.r());
         let (xc, n) = (x - g.gap * g.normal, g.normal);
         let impact = wall_impact(&self.kinds[tr.k], tr.d, &wall.material, self.fluid, self.rule, v, n);
+        let m = self.inertia_of(tr.k, tr.d);
         events.push(ContactEvent {
             time: t,
             id: p.id[tr.i],
@@ -177,7 +185,14 @@ impl<'a, M: Motion> Ctx<'a, M> {
             eps: impact.eps,
             contact_time: impact.contact_time,
             outcome: impact.outcome,
+            energy_before: kinetic_energy(m, v),
+            energy_after: kinetic_energy(m, impact.velocity),
         });
+        debug_assert!(
+            events.last().is_some_and(ContactEvent::energy_not_gained_if_finite),
+            "{:?}",
+            events.last()
+        );
         let w = w as u32;
         let seg = match impact.outcome {
             Outcome::Bounced => Segment { t, x: xc, v: impact.velocity, state: State::Free, wall: NO_WALL },
@@ -222,6 +237,14 @@ impl<'a, M: Motion> Ctx<'a, M> {
         let overlap = a.r() + b.r() - (xb - xa).length();
         let (wa, wb) = (1.0 / ma, 1.0 / mb);
         let (xa, xb) = (xa - n * overlap * wa / (wa + wb), xb + n * overlap * wb / (wa + wb));
+        // After a hold, the energy that counts is at release: the common velocity plus the
+        // release's relative velocity shared in proportion to the inverse inertias.
+        let (va1, vb1) = if imp.outcome == Outcome::Held {
+            let s = wa + wb;
+            (imp.va + imp.release_relative * (wa / s), imp.vb - imp.release_relative * (wb / s))
+        } else {
+            (imp.va, imp.vb)
+        };
         events.push(ContactEvent {
             time: t,
             id: p.id[a.i],
@@ -231,7 +254,14 @@ impl<'a, M: Motion> Ctx<'a, M> {
             eps: imp.eps,
             contact_time: imp.contact_time,
             outcome: imp.outcome,
+            energy_before: kinetic_energy(ma, va) + kinetic_energy(mb, vb),
+            energy_after: kinetic_energy(ma, va1) + kinetic_energy(mb, vb1),
         });
+        debug_assert!(
+            events.last().is_some_and(ContactEvent::energy_not_gained_if_finite),
+            "{:?}",
+            events.last()
+        );
         // A particle on or held at a wall keeps that state; a free one is held with its partner.
         let state = |tr: &Track<M::Field>| match (imp.outcome, tr.seg.state) {
             (_, State::Resting) => State::Resting,

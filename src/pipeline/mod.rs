@@ -190,7 +190,12 @@ pub(crate) fn fly<M: Motion>(ctx: &Ctx<M>, field: &M::Field, r: f64, seg: &Segme
                 Flight { x, v, state: State::Free }
             } else {
                 let n1 = g.normal;
-                Flight { x: x - g.gap * n1, v: v - v.dot(n1) * n1, state: State::Resting }
+                let (x, v) = (x - g.gap * n1, v - v.dot(n1) * n1);
+                // A resting particle ignores contacts with its own wall, so sliding along one
+                // face must not take it through another face of that wall (into a box's corner,
+                // across a mesh's crease): it stops there.
+                let (x, v, _) = crate::walls::push_out(wall, x, v, r);
+                Flight { x, v, state: State::Resting }
             }
         }
     }

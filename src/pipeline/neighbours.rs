@@ -82,7 +82,12 @@ fn build(x: &[DVec3], diameter: &[f64], cell: f64, skin: f64) -> Vec<[u32; 2]> {
             for dz in -1..=1 {
                 for dy in -1..=1 {
                     for dx in -1..=1 {
-                        let Some(&(a, b)) = cells.get(&(c + IVec3::new(dx, dy, dz))) else { continue };
+                        // Wrapping: a cell index saturates for a position far beyond the cell
+                        // size (the float-to-int cast saturates), and its neighbour must not
+                        // overflow.
+                        let Some(&(a, b)) = cells.get(&c.wrapping_add(IVec3::new(dx, dy, dz))) else {
+                            continue;
+                        };
                         for &(_, j) in &order[a..b] {
                             let j = j as usize;
                             if j > i {

@@ -34,6 +34,7 @@ pub fn run(
 ) -> Result<RunReport, OutputError> {
     let start = Instant::now();
     let mut frames = 0;
+    let mut lost_reported = sim.lost.len();
     let result = (|| {
         let mut k: u64 = 0;
         loop {
@@ -55,6 +56,12 @@ pub fn run(
                     s.step(sim)?;
                 }
                 flush_events(sim, sinks)?;
+                if sim.lost.len() > lost_reported {
+                    for s in sinks.iter_mut() {
+                        s.lost(sim, &sim.lost[lost_reported..])?;
+                    }
+                    lost_reported = sim.lost.len();
+                }
                 if stop.load(Ordering::Relaxed) {
                     for s in sinks.iter_mut() {
                         s.frame(sim)?;

@@ -4,12 +4,14 @@ use super::Scene;
 use super::accuracy::auto_step;
 use super::error::{Invalid, SceneError, check};
 use super::schema::*;
+use super::stiffness::stiffest_drag;
 use super::{fill, flux};
 use crate::contact::BounceRule;
 use crate::effects::{Physics, build_effect};
 use crate::fluid::{Flow, Fluid, Poiseuille};
 use crate::integrate::IntegratorKind;
 use crate::particles::{Material, ParticleKind, Particles};
+use crate::pipeline::inject::Injector;
 use crate::walls::{Cuboid, Cylinder, Plane, Shape, Surface, Wall, WallMaterial, annulus_mesh, load_mesh};
 use glam::DVec3;
 use std::path::Path;
@@ -35,7 +37,13 @@ pub(super) fn parse(source: &str, path: &Path) -> Result<SceneFile, SceneError> 
     let de = toml::de::Deserializer::parse(source).map_err(|e| located("(top level)".into(), &e))?;
     serde_path_to_error::deserialize(de).map_err(|e| {
         let key = e.path().to_string();
-        let key = if key == "." { "(top level)".to_string() } else { key };
+        // An empty key (`"" = 1`) has an empty path segment: name it `""`, never nothing.
+        let key = match key.as_str() {
+            "." => "(top level)".to_string(),
+            "" => "\"\"".to_string(),
+            k if k.ends_with('.') => format!("{k}\"\""),
+            _ => key,
+        };
         located(key, e.inner())
     })
 }
@@ -156,6 +164,16 @@ pub(super) fn build(file: SceneFile, base: &Path, source: &str) -> Result<Scene,
         scene.integrator = auto.integrator;
         scene.auto_step = Some(auto);
     }
+    // After `dt = "auto"` has chosen: its step is far inside the limit, and this says so.
+    check_stable_step(
+        scene.dt,
+        scene.integrator,
+        &scene.physics,
+        &scene.fluid,
+        &scene.kinds,
+        &scene.particles,
+        &scene.injectors,
+    )?;
     Ok(scene)
 }
 
@@ -407,6 +425,48 @@ fn build_walls(specs: &[WallSpec], base: &Path) -> Result<Vec<Wall>, Invalid> {
         walls.push(Wall { name: name.clone(), material: build_material(material, &key)?, shape });
     }
     Ok(walls)
+}
+
+/// An explicit integrator must be stable for the stiffest drag of the scene (`h λ` inside its
+/// real-axis stability interval, see [`super::stiffness`]); otherwise the error names the
+/// largest stable step and the exponential integrator, which is stable at any step.
+#[allow(clippy::too_many_arguments)]
+fn check_stable_step(
+    dt: f64,
+    integrator: IntegratorKind,
+    physics: &Physics,
+    fluid: &Fluid,
+    kinds: &[ParticleKind],
+    particles: &Particles,
+    injectors: &[Injector],
+) -> Result<(), Invalid> {
+    let Some(s) = stiffest_drag(physics, fluid, particles, injectors) else { return Ok(()) };
+    let limit = integrator.largest_stable_step(s.rate);
+    if dt < limit {
+        return Ok(());
+    }
+    Err(Invalid::new(
+        "simulation.dt",
+        format!(
+            "{dt} s is not below the largest stable step of the {} integrator, {} s \
+             ({:.3} τ, τ = {:.3e} s the shortest drag relaxation time, linearised, of kind \"{}\" \
+             at d = {} m and slip speed {:.3e} m/s); use a smaller dt, or integrator = \
+             \"exponential\", which is stable at any dt",
+            integrator.name(),
+            round_down(limit),
+            integrator.stability_interval(),
+            1.0 / s.rate,
+            kinds[s.kind].name,
+            s.diameter,
+            s.slip_speed,
+        ),
+    ))
+}
+
+/// `x` rounded down to 3 significant digits, so that the value shown is itself stable.
+fn round_down(x: f64) -> String {
+    let scale = 10f64.powf(x.log10().floor() - 2.0);
+    format!("{:.2e}", (x / scale).floor() * scale)
 }
 
 /// A particle may start touching a wall (gap 0) but not overlapping or behind it.

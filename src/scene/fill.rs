@@ -153,7 +153,9 @@ fn place_random(
             && (-1..=1).all(|dz| {
                 (-1..=1).all(|dy| {
                     (-1..=1).all(|dx| {
-                        grid.get(&(c + IVec3::new(dx, dy, dz))).is_none_or(|list| {
+                        // Wrapping: a cell index saturates for a diameter of 1e-308 in a
+                        // metre-sized region, and its neighbour must not overflow (a panic).
+                        grid.get(&c.wrapping_add(IVec3::new(dx, dy, dz))).is_none_or(|list| {
                             list.iter().all(|&j| (p.pos[j] - x).length() >= 0.5 * (p.diameter[j] + d))
                         })
                     })

@@ -10,6 +10,7 @@ mod fill;
 mod flux;
 mod report;
 mod schema;
+pub mod stiffness;
 
 pub use accuracy::{Accuracy, AutoStep};
 pub use error::SceneError;

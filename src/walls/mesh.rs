@@ -74,7 +74,20 @@ pub fn load_mesh(path: &Path, scale: f64, translate: DVec3) -> Result<MeshWall, 
     }
     let n = vertices.len() as u32;
     let vertices: Vec<DVec3> = vertices.into_iter().map(|v| v * scale + translate).collect();
+    // Finite in the file but not once placed (a scale of 1e300): the geometry would be NaN.
+    if let Some(i) = vertices.iter().position(|v| !v.is_finite()) {
+        return Err(geometry(format!(
+            "vertex {i} is not finite once scaled by {scale:e} and moved by {translate}: {:?}",
+            vertices[i]
+        )));
+    }
     let extent = vertices.iter().fold(0.0f64, |m, v| m.max((*v - vertices[0]).length()));
+    // Areas are squared lengths: beyond 1e150 m they overflow and every test below is void.
+    if !(extent * extent).is_finite() {
+        return Err(geometry(format!(
+            "spans {extent:e} m once scaled by {scale:e} and moved by {translate}: too large to compute with"
+        )));
+    }
     for (i, t) in triangles.iter().enumerate() {
         if t.iter().any(|&k| k >= n) {
             return Err(geometry(format!("triangle {i} refers to a vertex beyond the {n} given")));

@@ -183,14 +183,22 @@ pub(crate) fn convex_crossing(gap: impl Fn(f64) -> Gap, dir: DVec3, tol: f64) ->
     Some(lambda)
 }
 
+/// Rounds of [`push_out`]. 3 settle a box corner (one face per round); a sphere touching many
+/// features at once — sitting in a mesh ring's hole, on its whole rim — converges geometrically
+/// towards the position clear of all of them, and needs more: after the third round it goes
+/// on while the overlap exceeds round-off ([`PUSH_OUT_TOLERANCE`] of the radius), up to this.
+const PUSH_OUT_ROUNDS: usize = 1024;
+/// Overlap (fraction of the radius) left to round-off after three rounds of [`push_out`].
+const PUSH_OUT_TOLERANCE: f64 = 1e-12;
+
 /// Moves a sphere of radius `r` at `x` out of `shape` and removes its velocity into it. Repeated
 /// because the gap names the nearest face only: in a box corner the sphere may overlap two or
 /// three faces at once. Returns the corrected position and velocity and whether it overlapped.
 pub fn push_out(shape: &impl Surface, mut x: DVec3, mut v: DVec3, r: f64) -> (DVec3, DVec3, bool) {
     let mut moved = false;
-    for _ in 0..3 {
+    for round in 0..PUSH_OUT_ROUNDS {
         let g = shape.gap(x, r);
-        if g.gap >= 0.0 {
+        if g.gap >= 0.0 || (round >= 3 && g.gap >= -PUSH_OUT_TOLERANCE * r) {
             break;
         }
         moved = true;

@@ -29,13 +29,50 @@ pub fn shipped_with(name: &str, key: &str, value: &str) -> Scene {
     Scene::from_str(&replaced.join("\n"), &path).unwrap_or_else(|e| panic!("{e}"))
 }
 
-/// Runs a simulation to `t_end`, collecting every contact event.
+/// The smallest gap between any particle and any wall (negative inside), in particle radii, less
+/// the round-off of the position's coordinates (1e-13 |x|, a few hundred ulps: a particle
+/// that slid 20 km from the origin is not 'inside' by 1e-12 m), with the particle and the wall.
+pub fn deepest_overlap(sim: &Simulation) -> (f64, usize, usize) {
+    use wetbounce::walls::Surface;
+    let p = &sim.particles;
+    let mut worst = (f64::INFINITY, 0, 0);
+    for i in 0..p.len() {
+        let r = 0.5 * p.diameter[i];
+        for (w, wall) in sim.walls.iter().enumerate() {
+            let g = (wall.shape.gap(p.pos[i], r).gap + 1e-13 * p.pos[i].length()) / r;
+            if g < worst.0 {
+                worst = (g, i, w);
+            }
+        }
+    }
+    worst
+}
+
+/// Panics when a particle overlaps a wall by more than round-off (1e-9 of its radius).
+pub fn assert_clear_of_walls(sim: &Simulation) {
+    let (g, i, w) = deepest_overlap(sim);
+    assert!(
+        g >= -1e-9,
+        "t = {}: particle {} at {:?} is inside wall \"{}\" by {:.3e} radii",
+        sim.time,
+        sim.particles.id[i],
+        sim.particles.pos[i],
+        sim.walls[w].name,
+        -g
+    );
+}
+
+/// Runs a simulation to `t_end`, collecting every contact event. Every contact of every test
+/// that runs through here is checked to give no kinetic energy (docs/stability.md, case 7).
 pub fn run_collect(sim: &mut Simulation, t_end: f64) -> Vec<wetbounce::ContactEvent> {
     let mut events = Vec::new();
     while sim.time < t_end {
         let next = (sim.time + 64.0 * sim.dt).min(t_end);
         sim.advance_to(next);
         events.append(&mut sim.events);
+    }
+    for e in &events {
+        assert!(e.energy_not_gained(), "a contact gained kinetic energy: {e:?}");
     }
     events
 }
