@@ -8,16 +8,16 @@
 //! `cargo run --release --bin step_rate -- scenes/bench_dilute.toml 2000 1` (and `... 2000 2`)
 //! gives wetbounce's figure the way the README's other rows were measured.
 //!
-//! The scene is the same as wetbounce's: the bead positions and sizes, the box, the step and the
-//! fluid come from `scenes/bench_dilute.toml` itself. What rapier cannot express is
-//! approximated, as a user would:
+//! The scene is the same as wetbounce's: the bead positions and sizes, the bead density, the step
+//! and the fluid come from `scenes/bench_dilute.toml` itself; the box's bounds are copied from
+//! it. What rapier cannot express is approximated, as a user would:
 //! - the beads are dynamic rigid bodies with ball colliders (density 2540 kg/m³, constant
 //!   restitution 0.9 in place of L06's Stokes-number law, friction 0);
 //! - buoyancy is folded into gravity, g (1 − ρ/ρp);
 //! - Stokes drag is rapier's linear damping at the drag rate 18μ/(ρp d²). Rapier applies damping
 //!   as a per-step factor 1/(1 + Δt c) on the velocity (an implicit-Euler decay at rate c), so
 //!   this is the linear drag's rate applied once per step, an approximation of the drag force
-//!   (it matches to first order in Δt c ≈ 7e-6);
+//!   (it matches the exact decay e^(−Δt c) to first order in Δt c ≈ 1e-3);
 //! - the six walls are fixed cuboids just outside the box.
 
 use criterion::{BenchmarkId, Criterion, Throughput, criterion_group, criterion_main};
