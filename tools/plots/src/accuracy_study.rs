@@ -382,13 +382,7 @@ where
                 }
             }
         }
-        chart
-            .configure_series_labels()
-            .position(SeriesLabelPosition::LowerLeft)
-            .background_style(WHITE.mix(0.8))
-            .border_style(BLACK)
-            .label_font(("sans-serif", 14))
-            .draw()?;
+        plotting::legend(&mut chart, SeriesLabelPosition::LowerLeft, 14)?;
     }
     root.present()?;
     Ok(())

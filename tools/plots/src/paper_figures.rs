@@ -67,13 +67,7 @@ where
         .legend(|(x, y)| PathElement::new([(x, y), (x + 18, y)], RED.stroke_width(3)));
     chart.draw_series(LineSeries::new([(10.0, 0.0), (10.0, 1.05)], BLACK.mix(0.5)))?;
     chart.draw_series([Text::new("St_c = 10", (11.0, 0.9), ("sans-serif", 15).into_font())])?;
-    chart
-        .configure_series_labels()
-        .position(SeriesLabelPosition::UpperLeft)
-        .background_style(WHITE)
-        .border_style(BLACK)
-        .label_font(("sans-serif", 15))
-        .draw()?;
+    plotting::legend(&mut chart, SeriesLabelPosition::UpperLeft, 15)?;
     root.present()?;
     Ok(())
 }
@@ -119,13 +113,7 @@ where
         (19.0, 12.0),
         ("sans-serif", 15).into_font(),
     )])?;
-    chart
-        .configure_series_labels()
-        .position(SeriesLabelPosition::UpperRight)
-        .background_style(WHITE)
-        .border_style(BLACK)
-        .label_font(("sans-serif", 15))
-        .draw()?;
+    plotting::legend(&mut chart, SeriesLabelPosition::UpperRight, 15)?;
     root.present()?;
     Ok(())
 }
@@ -176,13 +164,7 @@ where
             (0.15, c + 0.06),
             ("sans-serif", 15).into_font(),
         )])?;
-        chart
-            .configure_series_labels()
-            .position(SeriesLabelPosition::LowerRight)
-            .background_style(WHITE)
-            .border_style(BLACK)
-            .label_font(("sans-serif", 14))
-            .draw()?;
+        plotting::legend(&mut chart, SeriesLabelPosition::LowerRight, 14)?;
     }
     let mut chart = ChartBuilder::on(&right)
         .caption("the same contact times", ("sans-serif", 19))
@@ -200,13 +182,7 @@ where
             .label(name)
             .legend(move |(x, y)| PathElement::new([(x, y), (x + 18, y)], color.stroke_width(3)));
     }
-    chart
-        .configure_series_labels()
-        .position(SeriesLabelPosition::UpperLeft)
-        .background_style(WHITE)
-        .border_style(BLACK)
-        .label_font(("sans-serif", 14))
-        .draw()?;
+    plotting::legend(&mut chart, SeriesLabelPosition::UpperLeft, 14)?;
     root.present()?;
     Ok(())
 }
@@ -265,13 +241,7 @@ where
     }
     chart.draw_series(LineSeries::new([(10.0, 1e-7), (10.0, 1e2)], BLACK.mix(0.4)))?;
     chart.draw_series([Text::new("St_c = 10", (12.0, 20.0), ("sans-serif", 15).into_font())])?;
-    chart
-        .configure_series_labels()
-        .position(SeriesLabelPosition::LowerLeft)
-        .background_style(WHITE)
-        .border_style(BLACK)
-        .label_font(("sans-serif", 15))
-        .draw()?;
+    plotting::legend(&mut chart, SeriesLabelPosition::LowerLeft, 15)?;
     root.present()?;
     Ok(())
 }
