@@ -29,21 +29,20 @@ pub(crate) fn touches_wall<M: Motion>(
         .any(|(w, shape)| !(state == State::Resting && wall == w as u32) && shape.shape.may_touch(x0, x1, r))
 }
 
-/// Keeps the Verlet list valid for this step's moves (`moved`: the largest distance of an end of
-/// step from its reference position; `step_move`: the largest move of the step) and collects
+/// Keeps the Verlet list valid for this step's moves (`step_move`: the largest of them) and collects
 /// the neighbour pairs whose straight moves come within contact and are not already in a
 /// lasting contact.
 pub(crate) fn pairs(
     p: &Particles,
     scratch: &mut Scratch,
     neighbours: &mut Neighbours,
-    (moved, step_move): (f64, f64),
+    step_move: f64,
     skin_fraction: f64,
     contacts: &[PairContact],
 ) {
     let next = &scratch.next_pos;
     scratch.pair_candidates.clear();
-    neighbours.update(&p.pos, &p.diameter, moved, step_move, skin_fraction);
+    neighbours.update((&p.pos, next), &p.diameter, step_move, skin_fraction);
     if neighbours.pairs.is_empty() {
         return;
     }

@@ -243,7 +243,14 @@ impl Simulation {
 
     /// Steps with `Δt` until `t_end`, shortening the last step to land on it exactly, so that
     /// outputs fall on their nominal times whatever `Δt`.
+    ///
+    /// The steps run inside rayon's pool, so the serial stages between the parallel ones run on
+    /// a worker rather than on a further thread that competes with the pool for the cores.
     pub fn advance_to(&mut self, t_end: f64) {
+        rayon::scope(|_| self.advance_to_in_pool(t_end));
+    }
+
+    fn advance_to_in_pool(&mut self, t_end: f64) {
         while self.time < t_end {
             let remaining = t_end - self.time;
             // A sliver left by round-off (the sum of many steps misses t_end by ~n·ε·t) is no step.
@@ -306,8 +313,7 @@ impl WithMotion for StepWith<'_> {
             // 1. (pairs; the walls' part is fused below)
             persistent::release(&ctx, &mut particles, &mut contacts, t1);
             // 1. + 2. + 3. (walls), one pass over the particles.
-            let reference = if sim.pair_collisions { neighbours.reference() } else { &[] };
-            let pass = particle_pass::run(&ctx, &mut particles, t0, t1, &mut scratch, reference);
+            let pass = particle_pass::run(&ctx, &mut particles, t0, t1, &mut scratch);
             let c1 = Instant::now();
             // 3. (pairs)
             if sim.pair_collisions {
@@ -315,7 +321,7 @@ impl WithMotion for StepWith<'_> {
                     &particles,
                     &mut scratch,
                     &mut neighbours,
-                    (pass.moved, pass.step_move),
+                    pass.step_move,
                     sim.skin_fraction,
                     &contacts,
                 );

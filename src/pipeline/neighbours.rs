@@ -1,5 +1,10 @@
 //! Stage 3 (pairs): a Verlet neighbour list on a cell grid, rebuilt only when a particle has
 //! moved more than half the skin since the last build.
+//!
+//! How far particles moved is bounded without a per-particle test in the common step: the sum of
+//! each step's largest move bounds every particle's distance from its reference position. Only
+//! when that bound reaches half the skin are the distances measured, particle by particle; the
+//! list is rebuilt only if one of them really does.
 
 use glam::{DVec3, IVec3};
 use rayon::prelude::*;
@@ -14,6 +19,9 @@ pub struct Neighbours {
     reference: Vec<DVec3>,
     /// Extra distance (m) beyond contact kept in the list.
     skin: f64,
+    /// Upper bound (m) on every particle's distance from its reference position at the end of
+    /// the last step.
+    drift: f64,
     /// Builds so far (for statistics and tests).
     pub builds: u64,
 }
@@ -24,22 +32,15 @@ impl Neighbours {
         self.reference.clear();
     }
 
-    /// The positions of the last build, to measure how far particles moved since.
-    pub fn reference(&self) -> &[DVec3] {
-        &self.reference
-    }
-
-    /// Makes the list valid for moves from `start` this step. `moved` is the largest distance of
-    /// a particle's end of step from its reference position (∞ if unknown) and `step_move` the
-    /// largest move of the step, both from the broad phase's pass over the particles. The list is
-    /// rebuilt from `start` when a particle may have come within half the skin of leaving it.
-    /// The skin is `skin_fraction` of the largest diameter, grown to four times the largest move
-    /// of the step if that is larger (a fast particle is never missed).
+    /// Makes the list valid for the moves of this step, from `start` to `end`; `step_move` is
+    /// the largest of them, from the broad phase's pass over the particles. The list is rebuilt
+    /// from `start` when a particle may have come within half the skin of leaving it. The skin
+    /// is `skin_fraction` of the largest diameter, grown to four times the largest move of the
+    /// step if that is larger (a fast particle is never missed).
     pub fn update(
         &mut self,
-        start: &[DVec3],
+        (start, end): (&[DVec3], &[DVec3]),
         diameter: &[f64],
-        moved: f64,
         step_move: f64,
         skin_fraction: f64,
     ) {
@@ -47,14 +48,33 @@ impl Neighbours {
         if n < 2 {
             self.pairs.clear();
             self.reference = start.to_vec();
+            self.drift = step_move;
             return;
         }
-        if self.reference.len() == n && 2.0 * step_move < self.skin && moved < 0.5 * self.skin {
-            return;
+        let valid = |moved: f64| 2.0 * step_move < self.skin && moved < 0.5 * self.skin;
+        if self.reference.len() == n {
+            if valid(self.drift + step_move) {
+                self.drift += step_move;
+                return;
+            }
+            // The bound is spent: measure.
+            let reference = &self.reference;
+            let moved = end
+                .par_iter()
+                .zip(reference)
+                .with_min_len(4096)
+                .map(|(x, r)| (*x - *r).length_squared())
+                .reduce(|| 0.0, f64::max)
+                .sqrt();
+            if valid(moved) {
+                self.drift = moved;
+                return;
+            }
         }
         let d_max = diameter.par_iter().copied().reduce(|| 0.0, f64::max);
         self.skin = (skin_fraction * d_max).max(4.0 * step_move).max(f64::MIN_POSITIVE);
         self.reference = start.to_vec();
+        self.drift = step_move;
         self.pairs = build(start, diameter, d_max + self.skin, self.skin);
         self.builds += 1;
     }
@@ -121,7 +141,7 @@ mod tests {
             .collect();
         let d = vec![4e-3; x.len()];
         let mut nb = Neighbours::default();
-        nb.update(&x, &d, f64::INFINITY, 0.0, 0.5);
+        nb.update((&x, &x), &d, 0.0, 0.5);
         let mut brute = Vec::new();
         for i in 0..x.len() {
             for j in i + 1..x.len() {

@@ -4,6 +4,7 @@
 
 use super::{Ctx, Motion, Scratch, broad_phase, free_flight, release};
 use crate::particles::{Particles, State};
+use crate::walls::Surface;
 use glam::DVec3;
 use rayon::prelude::*;
 
@@ -13,8 +14,6 @@ const CHUNK: usize = 1024;
 
 /// What the pass found besides the new states.
 pub(crate) struct PassResult {
-    /// The largest distance of an end of step from the Verlet reference (∞ without one).
-    pub moved: f64,
     /// The largest move of the step.
     pub step_move: f64,
     /// Particles that slid off their wall in free flight (their wall is cleared at commit).
@@ -31,13 +30,11 @@ pub(crate) fn run<M: Motion>(
     t0: f64,
     t1: f64,
     scratch: &mut Scratch,
-    reference: &[DVec3],
 ) -> PassResult {
     let n = p.len();
     scratch.next_pos.resize(n, DVec3::ZERO);
     scratch.next_vel.resize(n, DVec3::ZERO);
     scratch.next_state.resize(n, State::Free);
-    let has_reference = reference.len() == n;
     let (pos, kind, diameter, release_time, release_vel) =
         (&p.pos, &p.kind, &p.diameter, &p.release_time, &p.release_vel);
     let chunks: Vec<Chunk> = (
@@ -51,70 +48,124 @@ pub(crate) fn run<M: Motion>(
         .into_par_iter()
         .enumerate()
         .map(|(c, (state, vel, wall, x1, v1, s1))| {
-            // Every column as a slice of the chunk's length, so the loop has no bounds checks.
+            // Every column as a slice of the chunk's length, so the loops have no bounds checks.
             let (base, len) = (c * CHUNK, state.len());
             let range = base..base + len;
-            let (pos, kind, diameter) = (&pos[range.clone()], &kind[range.clone()], &diameter[range.clone()]);
-            let (release_time, release_vel) = (&release_time[range.clone()], &release_vel[range.clone()]);
-            let reference = if has_reference { &reference[range] } else { &[] };
-            let (vel, wall, x1, v1, s1) =
-                (&mut vel[..len], &mut wall[..len], &mut x1[..len], &mut v1[..len], &mut s1[..len]);
-            let mut out = Chunk::default();
-            // Sum of every new coordinate: finite unless one is not (or, harmlessly, unless it
-            // overflows), so one test per chunk instead of six per particle.
-            let mut sum = 0.0;
-            for j in 0..len {
-                let (x, k, d) = (pos[j], kind[j] as usize, diameter[j]);
-                // 1.
-                release::particle(
-                    ctx,
-                    &mut state[j],
-                    &mut vel[j],
-                    &mut wall[j],
-                    (release_time[j], release_vel[j]),
-                    x,
-                    (k, d),
-                    t1,
-                );
-                // 2.
-                let f = free_flight::particle(
-                    ctx,
-                    (x, vel[j]),
-                    (state[j], wall[j]),
-                    release_time[j],
-                    (k, d),
-                    t0,
-                    t1,
-                );
-                (x1[j], v1[j], s1[j]) = (f.x, f.v, f.state);
-                sum += (f.x + f.v).element_sum();
-                if f.state == State::Free && state[j] == State::Resting {
-                    out.fell.push((base + j) as u32);
-                }
-                // 3. (walls). Squared distances: one square root per step, not two per particle.
-                if broad_phase::touches_wall(ctx, (x, f.x), state[j], wall[j], d) {
-                    out.candidates.push((base + j) as u32);
-                }
-                let from_reference =
-                    if has_reference { (f.x - reference[j]).length_squared() } else { f64::INFINITY };
-                out.moved = out.moved.max(from_reference);
-                out.step_move = out.step_move.max((f.x - x).length_squared());
+            let cols = Columns {
+                base,
+                pos: &pos[range.clone()],
+                kind: &kind[range.clone()],
+                diameter: &diameter[range.clone()],
+                release_time: &release_time[range.clone()],
+                release_vel: &release_vel[range.clone()],
+                state,
+                vel: &mut vel[..len],
+                wall: &mut wall[..len],
+                x1: &mut x1[..len],
+                v1: &mut v1[..len],
+                s1: &mut s1[..len],
+            };
+            if cols.state.iter().all(|&s| s == State::Free) {
+                free_chunk(ctx, cols, t0, t1)
+            } else {
+                mixed_chunk(ctx, cols, t0, t1)
             }
-            out.suspect = !sum.is_finite();
-            out
         })
         .collect();
     scratch.candidates.clear();
-    let mut result = PassResult { moved: 0.0, step_move: 0.0, fell: Vec::new(), suspect: false };
+    let mut result = PassResult { step_move: 0.0, fell: Vec::new(), suspect: false };
     for chunk in chunks {
         scratch.candidates.extend(chunk.candidates);
         result.fell.extend(chunk.fell);
-        result.moved = result.moved.max(chunk.moved);
         result.step_move = result.step_move.max(chunk.step_move);
         result.suspect |= chunk.suspect;
     }
-    (result.moved, result.step_move) = (result.moved.sqrt(), result.step_move.sqrt());
+    result.step_move = result.step_move.sqrt();
     result
+}
+
+/// One chunk of the particle columns: the old state (read), the state the release changes, and
+/// the new state (written).
+struct Columns<'a> {
+    base: usize,
+    pos: &'a [DVec3],
+    kind: &'a [u16],
+    diameter: &'a [f64],
+    release_time: &'a [f64],
+    release_vel: &'a [DVec3],
+    state: &'a mut [State],
+    vel: &'a mut [DVec3],
+    wall: &'a mut [u32],
+    x1: &'a mut [DVec3],
+    v1: &'a mut [DVec3],
+    s1: &'a mut [State],
+}
+
+/// A chunk of free particles only (the bulk of a dilute scene): 1. has nothing to release,
+/// 2. is one integrator step, 3. one test per wall. A loop of its own, so that the compiler
+/// keeps its few values in registers.
+fn free_chunk<M: Motion>(ctx: &Ctx<M>, c: Columns, t0: f64, t1: f64) -> Chunk {
+    let mut out = Chunk::default();
+    // Sum of every new coordinate: finite unless one is not (or, harmlessly, unless it
+    // overflows), so one test per chunk instead of six per particle.
+    let mut sum = 0.0;
+    for j in 0..c.pos.len() {
+        let (x, k, d) = (c.pos[j], c.kind[j] as usize, c.diameter[j]);
+        // Free at the start of the step: released, if ever, before t0.
+        debug_assert!(c.release_time[j] <= t0);
+        let (xn, vn) = ctx.motion.advance(&ctx.field(k, d), x, c.vel[j], t1 - t0);
+        (c.x1[j], c.v1[j], c.s1[j]) = (xn, vn, State::Free);
+        sum += (xn + vn).element_sum();
+        if ctx.walls.iter().any(|w| w.shape.may_touch(x, xn, 0.5 * d)) {
+            out.candidates.push((c.base + j) as u32);
+        }
+        // Squared: one square root per step, not one per particle.
+        out.step_move = out.step_move.max((xn - x).length_squared());
+    }
+    out.suspect = !sum.is_finite();
+    out
+}
+
+/// Any chunk: stages 1, 2 and 3 (walls) for particles in every state.
+fn mixed_chunk<M: Motion>(ctx: &Ctx<M>, c: Columns, t0: f64, t1: f64) -> Chunk {
+    let mut out = Chunk::default();
+    let mut sum = 0.0;
+    for j in 0..c.pos.len() {
+        let (x, k, d) = (c.pos[j], c.kind[j] as usize, c.diameter[j]);
+        // 1.
+        release::particle(
+            ctx,
+            &mut c.state[j],
+            &mut c.vel[j],
+            &mut c.wall[j],
+            (c.release_time[j], c.release_vel[j]),
+            x,
+            (k, d),
+            t1,
+        );
+        // 2.
+        let f = free_flight::particle(
+            ctx,
+            (x, c.vel[j]),
+            (c.state[j], c.wall[j]),
+            c.release_time[j],
+            (k, d),
+            t0,
+            t1,
+        );
+        (c.x1[j], c.v1[j], c.s1[j]) = (f.x, f.v, f.state);
+        sum += (f.x + f.v).element_sum();
+        if f.state == State::Free && c.state[j] == State::Resting {
+            out.fell.push((c.base + j) as u32);
+        }
+        // 3. (walls)
+        if broad_phase::touches_wall(ctx, (x, f.x), c.state[j], c.wall[j], d) {
+            out.candidates.push((c.base + j) as u32);
+        }
+        out.step_move = out.step_move.max((f.x - x).length_squared());
+    }
+    out.suspect = !sum.is_finite();
+    out
 }
 
 /// One chunk's share of [`PassResult`] (squared distances) and its wall candidates.
@@ -122,7 +173,6 @@ pub(crate) fn run<M: Motion>(
 struct Chunk {
     candidates: Vec<u32>,
     fell: Vec<u32>,
-    moved: f64,
     step_move: f64,
     suspect: bool,
 }
