@@ -1,8 +1,8 @@
 //! Scaling sweep: particle-steps per second over N and thread counts, for the benchmark cases
 //! of the many-particles work, written as CSV.
 //!
-//! Run: `cargo run --release --bin scaling -- [OUT.csv] [MAX_N]` (defaults: standard output,
-//! 1,000,000). Cases:
+//! Run: `cargo run --release --bin scaling -- [OUT.csv] [MAX_N] [CASE]` (defaults: standard
+//! output, 1,000,000, every case; `-` for standard output). Cases:
 //! - `dilute`: the LIGGGHTS peer's scene scaled to N — beads on a cubic lattice at 3 d in a box
 //!   of liquid (ρ = 1000 kg/m³, μ = 0.1 Pa·s), gravity, buoyancy, Stokes drag, Euler, 20 mm above
 //!   the floor so that no bead touches a wall in the timed steps;
@@ -70,7 +70,8 @@ fn scene(case: &str, n: usize) -> Scene {
 fn main() {
     let args: Vec<String> = std::env::args().skip(1).collect();
     let max_n: usize = args.get(1).map_or(1_000_000, |s| s.parse().expect("MAX_N must be a whole number"));
-    let mut out: Box<dyn Write> = match args.first() {
+    let only = args.get(2);
+    let mut out: Box<dyn Write> = match args.first().filter(|p| *p != "-") {
         Some(path) => Box::new(std::fs::File::create(path).unwrap_or_else(|e| panic!("{path}: {e}"))),
         None => Box::new(std::io::stdout()),
     };
@@ -84,7 +85,7 @@ fn main() {
         "paper-no-pairs",
         "pairs5",
     ];
-    for case in cases {
+    for case in cases.into_iter().filter(|c| only.is_none_or(|o| o == c)) {
         for n in [1_000, 10_000, 100_000, 1_000_000].into_iter().filter(|&n| n <= max_n) {
             let base = scene(case, n);
             for threads in [1, 2] {

@@ -13,7 +13,7 @@ impl Scheme for Euler {
     /// `|1 − λh| < 1`.
     const STABILITY_INTERVAL: f64 = 2.0;
 
-    #[inline]
+    #[inline(always)]
     fn advance<F: ForceField>(self, f: &F, x: DVec3, v: DVec3, h: f64) -> (DVec3, DVec3) {
         let a = f.eval(x, v).total(v);
         (x + h * v, v + h * a)

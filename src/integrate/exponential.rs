@@ -55,7 +55,7 @@ impl Scheme for Exponential {
     /// The decay `e^(−λh)` is exact, below 1 for every step.
     const STABILITY_INTERVAL: f64 = f64::INFINITY;
 
-    #[inline]
+    #[inline(always)]
     fn advance<F: ForceField>(self, f: &F, x: DVec3, v: DVec3, h: f64) -> (DVec3, DVec3) {
         let l0 = f.eval(x, v);
         let (xm, vm) = frozen_step(&l0, x, v, 0.5 * h);

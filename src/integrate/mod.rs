@@ -126,8 +126,8 @@ impl<D: DragLaw, F: FlowField> ForceField for ParticleForce<D, F> {
             return Linear { explicit: self.accel, inv_tau: 0.0, u: DVec3::ZERO };
         }
         let u = self.flow.velocity(x);
-        let re = self.re_per_speed * (v - u).length();
-        Linear { explicit: self.accel, inv_tau: self.stokes_rate * D::factor(re), u }
+        let re2 = self.re_per_speed * self.re_per_speed * (v - u).length_squared();
+        Linear { explicit: self.accel, inv_tau: self.stokes_rate * D::factor_of_squared(re2), u }
     }
 }
 

@@ -18,7 +18,7 @@ impl Scheme for Rk2 {
     /// `|1 − z + z²/2| < 1` for `0 < z = λh < 2`.
     const STABILITY_INTERVAL: f64 = 2.0;
 
-    #[inline]
+    #[inline(always)]
     fn advance<F: ForceField>(self, f: &F, x: DVec3, v: DVec3, h: f64) -> (DVec3, DVec3) {
         let a1 = f.eval(x, v).total(v);
         let (x2, v2) = (x + h * v, v + h * a1);

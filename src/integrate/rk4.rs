@@ -13,7 +13,7 @@ impl Scheme for Rk4 {
     /// `|1 − z + z²/2 − z³/6 + z⁴/24| < 1` for `0 < z = λh < 2.7853`.
     const STABILITY_INTERVAL: f64 = 2.785_293_563_405_282;
 
-    #[inline]
+    #[inline(always)]
     fn advance<F: ForceField>(self, f: &F, x: DVec3, v: DVec3, h: f64) -> (DVec3, DVec3) {
         let half = 0.5 * h;
         let (k1x, k1v) = (v, f.eval(x, v).total(v));

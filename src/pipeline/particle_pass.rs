@@ -10,7 +10,7 @@ use rayon::prelude::*;
 
 /// Particles per parallel task: large enough to hide the scheduling, small enough to share 2
 /// cores evenly for a few thousand particles. Fixed, so results never depend on the threads.
-const CHUNK: usize = 1024;
+const CHUNK: usize = 512;
 
 /// What the pass found besides the new states.
 pub(crate) struct PassResult {
@@ -105,18 +105,24 @@ struct Columns<'a> {
 /// 2. is one integrator step, 3. one test per wall. A loop of its own, so that the compiler
 /// keeps its few values in registers.
 fn free_chunk<M: Motion>(ctx: &Ctx<M>, c: Columns, t0: f64, t1: f64) -> Chunk {
+    // 2. alone first: a short loop body lets the processor overlap the long chains of dependent
+    // operations (a square root, a power) of consecutive particles.
+    for j in 0..c.pos.len() {
+        // Free at the start of the step: released, if ever, before t0.
+        debug_assert!(c.release_time[j] <= t0);
+        let field = ctx.field(c.kind[j] as usize, c.diameter[j]);
+        (c.x1[j], c.v1[j]) = ctx.motion.advance(&field, c.pos[j], c.vel[j], t1 - t0);
+    }
+    c.s1.fill(State::Free);
+    // 3. (walls), and what the step needs to know of the moves.
     let mut out = Chunk::default();
     // Sum of every new coordinate: finite unless one is not (or, harmlessly, unless it
     // overflows), so one test per chunk instead of six per particle.
     let mut sum = 0.0;
     for j in 0..c.pos.len() {
-        let (x, k, d) = (c.pos[j], c.kind[j] as usize, c.diameter[j]);
-        // Free at the start of the step: released, if ever, before t0.
-        debug_assert!(c.release_time[j] <= t0);
-        let (xn, vn) = ctx.motion.advance(&ctx.field(k, d), x, c.vel[j], t1 - t0);
-        (c.x1[j], c.v1[j], c.s1[j]) = (xn, vn, State::Free);
+        let (x, xn, vn, r) = (c.pos[j], c.x1[j], c.v1[j], 0.5 * c.diameter[j]);
         sum += (xn + vn).element_sum();
-        if ctx.walls.iter().any(|w| w.shape.may_touch(x, xn, 0.5 * d)) {
+        if ctx.walls.iter().any(|w| w.shape.may_touch(x, xn, r)) {
             out.candidates.push((c.base + j) as u32);
         }
         // Squared: one square root per step, not one per particle.
