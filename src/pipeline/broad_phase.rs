@@ -6,7 +6,6 @@ use crate::particles::{NO_WALL, PairContact, Particles, State};
 use crate::walls::Surface;
 use glam::DVec3;
 use rayon::prelude::*;
-use std::collections::HashSet;
 
 /// Whether a particle's straight move from `x0` to `x1` may touch a wall other than the one it
 /// rests on (walls are few and static; each answers with a closed-form test or a bounding-box
@@ -46,7 +45,7 @@ pub(crate) fn pairs(
     if neighbours.pairs.is_empty() {
         return;
     }
-    let lasting: HashSet<[u32; 2]> = contacts.iter().map(|c| [c.a, c.b]).collect();
+    let lasting: super::FastSet<[u32; 2]> = contacts.iter().map(|c| [c.a, c.b]).collect();
     scratch.pair_candidates.par_extend(neighbours.pairs.par_iter().with_min_len(1024).copied().filter(
         |&[a, b]| {
             let (a, b) = (a as usize, b as usize);

@@ -443,9 +443,9 @@ type Island = (Vec<usize>, Vec<[usize; 2]>);
 /// pair is an island of one. Islands come in order of their lowest particle index, members in
 /// index order, pairs as positions among the members (lower first).
 fn islands(wall_candidates: &[u32], pairs: &[[u32; 2]]) -> Vec<Island> {
-    use std::collections::HashMap;
-    let mut parent: HashMap<u32, u32> = HashMap::new();
-    fn root(parent: &mut HashMap<u32, u32>, i: u32) -> u32 {
+    use super::FastMap;
+    let mut parent: FastMap<u32, u32> = FastMap::default();
+    fn root(parent: &mut FastMap<u32, u32>, i: u32) -> u32 {
         let mut r = i;
         while let Some(&up) = parent.get(&r) {
             if up == r {
@@ -464,7 +464,7 @@ fn islands(wall_candidates: &[u32], pairs: &[[u32; 2]]) -> Vec<Island> {
             parent.insert(ra.max(rb), ra.min(rb));
         }
     }
-    let mut groups: HashMap<u32, Vec<usize>> = HashMap::new();
+    let mut groups: FastMap<u32, Vec<usize>> = FastMap::default();
     let members: Vec<u32> = parent.keys().copied().collect();
     for i in members {
         let r = root(&mut parent, i);
@@ -478,7 +478,7 @@ fn islands(wall_candidates: &[u32], pairs: &[[u32; 2]]) -> Vec<Island> {
         })
         .collect();
     out.sort_unstable_by_key(|(m, _)| m[0]);
-    let mut island_of: HashMap<usize, usize> = HashMap::new();
+    let mut island_of: FastMap<usize, usize> = FastMap::default();
     for (k, (m, _)) in out.iter().enumerate() {
         for &i in m {
             island_of.insert(i, k);

@@ -46,6 +46,12 @@ use glam::DVec3;
 use neighbours::Neighbours;
 use std::time::{Duration, Instant};
 
+/// Hash map of the per-step stages: foldhash with a fixed seed — fast on small integer keys,
+/// and the same on every run (only lookups are used; no result depends on iteration order).
+pub(crate) type FastMap<K, V> = std::collections::HashMap<K, V, foldhash::fast::FixedState>;
+/// Hash set of the per-step stages (see [`FastMap`]).
+pub(crate) type FastSet<K> = std::collections::HashSet<K, foldhash::fast::FixedState>;
+
 /// Wall time spent in each stage of [`Simulation::step`], summed over steps.
 #[derive(Debug, Clone, Copy, Default)]
 pub struct StageTimes {

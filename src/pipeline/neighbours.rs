@@ -6,9 +6,9 @@
 //! when that bound reaches half the skin are the distances measured, particle by particle; the
 //! list is rebuilt only if one of them really does.
 
+use super::FastMap;
 use glam::{DVec3, IVec3};
 use rayon::prelude::*;
-use std::collections::HashMap;
 
 /// Candidate particle pairs within `r_i + r_j + skin` at the last build.
 #[derive(Debug, Clone, Default)]
@@ -85,7 +85,7 @@ fn build(x: &[DVec3], diameter: &[f64], cell: f64, skin: f64) -> Vec<[u32; 2]> {
     let key = |p: DVec3| (p / cell).floor().as_ivec3();
     let mut order: Vec<(IVec3, u32)> = x.par_iter().enumerate().map(|(i, p)| (key(*p), i as u32)).collect();
     order.par_sort_unstable_by_key(|&(c, i)| (c.x, c.y, c.z, i));
-    let mut cells: HashMap<IVec3, (usize, usize)> = HashMap::new();
+    let mut cells: FastMap<IVec3, (usize, usize)> = FastMap::default();
     let mut start = 0;
     for k in 1..=order.len() {
         if k == order.len() || order[k].0 != order[start].0 {

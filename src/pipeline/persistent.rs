@@ -53,7 +53,7 @@ pub(crate) fn run<M: Motion>(
     };
     let mut involved: Vec<usize> = Vec::new();
     for round in 0..ROUNDS {
-        let known: std::collections::HashSet<[u32; 2]> = contacts.iter().map(|c| [c.a, c.b]).collect();
+        let known: super::FastSet<[u32; 2]> = contacts.iter().map(|c| [c.a, c.b]).collect();
         let before = contacts.len();
         contacts.extend(
             neighbour_pairs

@@ -46,6 +46,7 @@ impl Cuboid {
 }
 
 impl Surface for Cuboid {
+    #[inline(always)]
     fn gap(&self, c: DVec3, r: f64) -> Gap {
         if !self.inside {
             return self.outer_gap(c, r);

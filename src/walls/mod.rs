@@ -101,6 +101,7 @@ pub trait Surface {
 }
 
 impl Surface for Shape {
+    #[inline(always)]
     fn gap(&self, c: DVec3, r: f64) -> Gap {
         match self {
             Shape::Plane(s) => s.gap(c, r),
