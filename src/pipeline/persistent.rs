@@ -52,19 +52,19 @@ pub(crate) fn run<M: Motion>(
         }
     };
     let mut involved: Vec<usize> = Vec::new();
+    let mut known: super::FastSet<[u32; 2]> = contacts.iter().map(|c| [c.a, c.b]).collect();
     for round in 0..ROUNDS {
-        let known: super::FastSet<[u32; 2]> = contacts.iter().map(|c| [c.a, c.b]).collect();
         let before = contacts.len();
-        contacts.extend(
-            neighbour_pairs
-                .iter()
-                .filter(|&&[a, b]| {
-                    (x[b as usize] - x[a as usize]).length() < reach_of(a, b) * (1.0 - TOLERANCE)
-                        && !known.contains(&[a, b])
-                })
-                .map(|&[a, b]| PairContact::resting(a, b))
-                .collect::<Vec<_>>(),
-        );
+        let found: Vec<PairContact> = neighbour_pairs
+            .iter()
+            .filter(|&&[a, b]| {
+                (x[b as usize] - x[a as usize]).length() < reach_of(a, b) * (1.0 - TOLERANCE)
+                    && !known.contains(&[a, b])
+            })
+            .map(|&[a, b]| PairContact::resting(a, b))
+            .collect();
+        known.extend(found.iter().map(|c| [c.a, c.b]));
+        contacts.extend(found);
         if contacts.is_empty() {
             return false;
         }
@@ -102,6 +102,10 @@ fn project_positions<M: Motion>(
     w: &impl Fn(usize) -> f64,
 ) {
     let reach = |c: &PairContact| 0.5 * (p.diameter[c.a as usize] + p.diameter[c.b as usize]);
+    // Inverse inertias looked up, not recomputed at every sweep.
+    let place = places(p.len(), involved);
+    let inv: Vec<f64> = involved.iter().map(|&i| w(i)).collect();
+    let w = |i: usize| inv[place[i] as usize];
     for _ in 0..SWEEPS {
         let mut worst: f64 = 0.0;
         for &i in involved.iter().filter(|&&i| w(i) > 0.0) {
@@ -139,6 +143,15 @@ fn project_positions<M: Motion>(
     }
 }
 
+/// The place of each of `n` particles in `involved` (`u32::MAX` if absent).
+fn places(n: usize, involved: &[usize]) -> Vec<u32> {
+    let mut place = vec![u32::MAX; n];
+    for (k, &i) in involved.iter().enumerate() {
+        place[i] = k as u32;
+    }
+    place
+}
+
 /// Sequential impulses (projected Gauss–Seidel) on the velocities of the particles involved:
 /// a hold makes the pair move together; a resting contact, and the walls they touch, may not
 /// approach. Each non-penetration impulse is *accumulated* over the sweeps and kept ≥ 0, so an
@@ -159,7 +172,9 @@ fn solve_velocities<M: Motion>(
 ) {
     // The sweeps work on compact copies: the involved particles' velocities and inverse
     // inertias, contacts by position in `involved`.
-    let local = |i: u32| involved.binary_search(&(i as usize)).expect("involved");
+    // A lookup table: a binary search per contact end cost more than the sweeps.
+    let place = places(p.len(), involved);
+    let local = |i: u32| place[i as usize] as usize;
     let inv: Vec<f64> = involved.iter().map(|&i| w(i)).collect();
     let mut vel: Vec<DVec3> = involved.iter().map(|&i| v[i]).collect();
     // Each wall a moving particle touches: (particle, normal towards it, accumulated impulse).
