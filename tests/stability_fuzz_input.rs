@@ -17,7 +17,7 @@ fn root() -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR"))
 }
 
-/// Valid scenes to mutate: the shipped ones (but the 10,000-bead benchmark, slow to fill), the
+/// Valid scenes to mutate: the shipped ones (but the 10,000-bead benchmarks, slow to fill), the
 /// test scenes, and the annotated example's features through the column and contactor.
 fn sources() -> Vec<(PathBuf, String)> {
     let mut out = Vec::new();
@@ -25,7 +25,10 @@ fn sources() -> Vec<(PathBuf, String)> {
         let mut paths: Vec<PathBuf> = std::fs::read_dir(root().join(dir))
             .unwrap()
             .map(|e| e.unwrap().path())
-            .filter(|p| p.extension().is_some_and(|e| e == "toml") && !p.ends_with("bench_dilute.toml"))
+            .filter(|p| {
+                p.extension().is_some_and(|e| e == "toml")
+                    && !p.file_name().is_some_and(|n| n.to_string_lossy().starts_with("bench_"))
+            })
             .collect();
         paths.sort();
         for p in paths {

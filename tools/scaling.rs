@@ -104,11 +104,7 @@ fn main() {
                 sim.stage_times = Default::default();
                 let builds = sim.neighbours.builds;
                 let start = Instant::now();
-                pool.install(|| {
-                    for _ in 0..steps {
-                        sim.step(base.dt);
-                    }
-                });
+                pool.install(|| sim.run_steps(steps, base.dt));
                 let wall = start.elapsed().as_secs_f64();
                 writeln!(
                     out,

@@ -36,11 +36,7 @@ fn main() {
     let start = Instant::now();
     // The whole run inside the pool, as `Simulation::advance_to` does: the serial stages then
     // run on a worker instead of a third thread competing with the spinning workers.
-    pool.install(|| {
-        for _ in 0..steps {
-            sim.step(scene.dt);
-        }
-    });
+    pool.install(|| sim.run_steps(steps, scene.dt));
     let wall = start.elapsed().as_secs_f64();
     println!(
         "{path} N={n} steps={steps} threads={} wall_s={wall:.3} particle_steps_per_s={:.4e}",
