@@ -76,14 +76,29 @@ pub(crate) fn run<M: Motion>(
         let up = -ctx.fluid.gravity.normalize_or(DVec3::NEG_Z);
         let height = |c: &PairContact| x[c.a as usize].dot(up).min(x[c.b as usize].dot(up));
         contacts.sort_by(|c, d| height(c).total_cmp(&height(d)).then((c.a, c.b).cmp(&(d.a, d.b))));
-        involved = contacts.iter().flat_map(|c| [c.a as usize, c.b as usize]).collect();
-        involved.sort_unstable();
-        involved.dedup();
+        // Ascending and unique: by marking when contacts are many (sorting 10⁵ indices cost
+        // more than a pass over the particles), by sorting when they are few.
+        if 16 * contacts.len() >= p.len() {
+            let mut mark = vec![false; p.len()];
+            for c in contacts.iter() {
+                (mark[c.a as usize], mark[c.b as usize]) = (true, true);
+            }
+            involved = (0..p.len()).filter(|&i| mark[i]).collect();
+        } else {
+            involved = contacts.iter().flat_map(|c| [c.a as usize, c.b as usize]).collect();
+            involved.sort_unstable();
+            involved.dedup();
+        }
         project_positions(ctx, p, x, contacts, &involved, &w);
         // Walls are hard: whatever the sweeps left, no particle ends inside one.
+        // (`may_touch` first: the closed-form broad phase answers for most, and it is false
+        // only when the gap is positive, where `push_out` does nothing.)
         for &i in involved.iter().filter(|&&i| w(i) > 0.0) {
+            let r = 0.5 * p.diameter[i];
             for wall in ctx.walls {
-                (x[i], v[i], _) = push_out(&wall.shape, x[i], v[i], 0.5 * p.diameter[i]);
+                if wall.shape.may_touch(x[i], x[i], r) {
+                    (x[i], v[i], _) = push_out(&wall.shape, x[i], v[i], r);
+                }
             }
         }
     }
@@ -105,12 +120,16 @@ fn project_positions<M: Motion>(
     // Inverse inertias looked up, not recomputed at every sweep.
     let place = places(p.len(), involved);
     let inv: Vec<f64> = involved.iter().map(|&i| w(i)).collect();
-    let w = |i: usize| inv[place[i] as usize];
+    let w = |i: usize| inv[place.of(i)];
     for _ in 0..SWEEPS {
         let mut worst: f64 = 0.0;
         for &i in involved.iter().filter(|&&i| w(i) > 0.0) {
             let r = 0.5 * p.diameter[i];
             for wall in ctx.walls {
+                // False only when the gap is positive (then there is nothing to do).
+                if !wall.shape.may_touch(x[i], x[i], r) {
+                    continue;
+                }
                 let g = wall.shape.gap(x[i], r);
                 if g.gap < 0.0 {
                     x[i] -= g.gap * g.normal;
@@ -143,13 +162,33 @@ fn project_positions<M: Motion>(
     }
 }
 
-/// The place of each of `n` particles in `involved` (`u32::MAX` if absent).
-fn places(n: usize, involved: &[usize]) -> Vec<u32> {
+/// The place of a particle in `involved` (ascending): a table over all `n` particles when many
+/// are involved (a binary search per contact end cost more than the sweeps), a search when few
+/// are (the table would cost a pass over all particles).
+enum Places<'a> {
+    Table(Vec<u32>),
+    Search(&'a [usize]),
+}
+
+impl Places<'_> {
+    #[inline]
+    fn of(&self, i: usize) -> usize {
+        match self {
+            Places::Table(t) => t[i] as usize,
+            Places::Search(involved) => involved.binary_search(&i).expect("involved"),
+        }
+    }
+}
+
+fn places(n: usize, involved: &[usize]) -> Places<'_> {
+    if 16 * involved.len() < n {
+        return Places::Search(involved);
+    }
     let mut place = vec![u32::MAX; n];
     for (k, &i) in involved.iter().enumerate() {
         place[i] = k as u32;
     }
-    place
+    Places::Table(place)
 }
 
 /// Sequential impulses (projected Gauss–Seidel) on the velocities of the particles involved:
@@ -174,14 +213,16 @@ fn solve_velocities<M: Motion>(
     // inertias, contacts by position in `involved`.
     // A lookup table: a binary search per contact end cost more than the sweeps.
     let place = places(p.len(), involved);
-    let local = |i: u32| place[i as usize] as usize;
+    let local = |i: u32| place.of(i as usize);
     let inv: Vec<f64> = involved.iter().map(|&i| w(i)).collect();
     let mut vel: Vec<DVec3> = involved.iter().map(|&i| v[i]).collect();
     // Each wall a moving particle touches: (particle, normal towards it, accumulated impulse).
     let mut walls: Vec<(usize, DVec3, f64)> = Vec::new();
     for (k, &i) in involved.iter().enumerate().filter(|&(k, _)| inv[k] > 0.0) {
         let r = 0.5 * p.diameter[i];
-        for wall in ctx.walls {
+        // A sphere grown by twice the tolerance: clear of it, no part is within the tolerance.
+        let near = |wall: &&crate::walls::Wall| wall.shape.may_touch(x[i], x[i], r * (1.0 + 2.0 * TOLERANCE));
+        for wall in ctx.walls.iter().filter(near) {
             wall.shape.touching(x[i], r, TOLERANCE * r, |g| walls.push((k, g.normal, 0.0)));
         }
     }
