@@ -122,6 +122,8 @@ fn free_chunk<M: Motion>(ctx: &Ctx<M>, c: Columns, t0: f64, t1: f64) -> Chunk {
     for j in 0..c.pos.len() {
         let (x, xn, vn, r) = (c.pos[j], c.x1[j], c.v1[j], 0.5 * c.diameter[j]);
         sum += (xn + vn).element_sum();
+        // `broad_phase::touches_wall` for a free particle, written out: calling it here (with
+        // the state a constant) made this loop half as fast.
         if ctx.walls.iter().any(|w| w.shape.may_touch(x, xn, r)) {
             out.candidates.push((c.base + j) as u32);
         }

@@ -317,15 +317,13 @@ where
 #[allow(clippy::redundant_closure)]
 fn main() -> ExitCode {
     let mut args: Vec<String> = std::env::args().skip(1).collect();
-    let mut font = PathBuf::from(plotting::DEFAULT_FONT);
-    if let Some(k) = args.iter().position(|a| a == "--font") {
-        if k + 1 >= args.len() {
-            eprintln!("error: --font needs a file");
+    let font = match plotting::take_font_arg(&mut args) {
+        Ok(f) => f,
+        Err(e) => {
+            eprintln!("error: {e}");
             return ExitCode::FAILURE;
         }
-        font = PathBuf::from(args.remove(k + 1));
-        args.remove(k);
-    }
+    };
     let out = PathBuf::from(args.first().map_or("docs/figures", |s| s.as_str()));
     let result = (|| -> Result<(), String> {
         plotting::register(&font)?;

@@ -9,6 +9,20 @@ use std::path::Path;
 /// that nothing links a system library.
 pub const DEFAULT_FONT: &str = "/usr/share/fonts/truetype/dejavu/DejaVuSans.ttf";
 
+/// Takes `--font FILE` out of `args`: the file, or [`DEFAULT_FONT`] without the flag; an error
+/// when the flag has no file after it.
+pub fn take_font_arg(args: &mut Vec<String>) -> Result<std::path::PathBuf, String> {
+    let Some(k) = args.iter().position(|a| a == "--font") else {
+        return Ok(DEFAULT_FONT.into());
+    };
+    if k + 1 >= args.len() {
+        return Err("--font needs a file".into());
+    }
+    let font = args.remove(k + 1).into();
+    args.remove(k);
+    Ok(font)
+}
+
 /// Registers `font` (a TrueType file) as plotters' "sans-serif".
 pub fn register(font: &Path) -> Result<(), String> {
     let bytes = std::fs::read(font).map_err(|e| format!("{}: {e}", font.display()))?;
