@@ -1,5 +1,6 @@
 //! The carrier fluid: its properties and its velocity field.
 
+use crate::lanes::Vector;
 use glam::DVec3;
 
 /// The fluid the particles move through. SI units.
@@ -31,6 +32,12 @@ pub enum Flow {
 pub trait FlowField: Copy + Send + Sync {
     /// Fluid velocity at `x` (m/s).
     fn velocity(&self, x: DVec3) -> DVec3;
+    /// Fluid velocity at one point or a lane group of points (m/s): [`FlowField::velocity`] of
+    /// each, unless the flow has a cheaper lane form.
+    #[inline(always)]
+    fn velocity_of<V: Vector>(&self, x: V) -> V {
+        x.map_points(|x| self.velocity(x))
+    }
 }
 
 /// [`Flow::Quiescent`] as a [`FlowField`].
@@ -42,6 +49,10 @@ impl FlowField for Quiescent {
     fn velocity(&self, _x: DVec3) -> DVec3 {
         DVec3::ZERO
     }
+    #[inline(always)]
+    fn velocity_of<V: Vector>(&self, _x: V) -> V {
+        V::ZERO
+    }
 }
 
 /// [`Flow::Uniform`] as a [`FlowField`].
@@ -52,6 +63,10 @@ impl FlowField for Uniform {
     #[inline(always)]
     fn velocity(&self, _x: DVec3) -> DVec3 {
         self.0
+    }
+    #[inline(always)]
+    fn velocity_of<V: Vector>(&self, _x: V) -> V {
+        V::splat(self.0)
     }
 }
 

@@ -20,6 +20,7 @@ pub mod correlations;
 pub mod effects;
 pub mod fluid;
 pub mod integrate;
+pub mod lanes;
 pub mod output;
 pub mod particles;
 pub mod pipeline;

@@ -1,6 +1,7 @@
 //! Drag factor and Reynolds number.
 
 use super::FixedPower;
+use crate::lanes::Real;
 
 /// Particle Reynolds number `Re = ρ |w| d / μ` (dimensionless).
 ///
@@ -35,13 +36,21 @@ pub fn drag_factor_schiller_naumann(re: f64) -> f64 {
 }
 
 /// [`drag_factor_schiller_naumann`] of `Re²` (dimensionless), without its square root:
-/// `1 + 0.15 (Re²)^0.3435`, and the Newton branch above `Re² = 10⁶`.
-#[inline]
-pub fn drag_factor_schiller_naumann_of_squared(re2: f64) -> f64 {
-    if re2 <= NEWTON_REYNOLDS * NEWTON_REYNOLDS {
-        1.0 + 0.15 * RE2_POWER.pow(re2)
+/// `1 + 0.15 (Re²)^0.3435`, and the Newton branch above `Re² = 10⁶`. Of one particle (`f64`) or
+/// of a lane group ([`crate::lanes::F64x4`]): a group all below the Newton branch takes the
+/// power in lanes, any other goes lane by lane.
+#[inline(always)]
+pub fn drag_factor_schiller_naumann_of_squared<R: Real>(re2: R) -> R {
+    if re2.all(|r| r <= NEWTON_REYNOLDS * NEWTON_REYNOLDS) {
+        R::splat(1.0) + re2.pow_fixed(&RE2_POWER) * 0.15
     } else {
-        NEWTON_DRAG_COEFFICIENT * re2.sqrt() / 24.0
+        re2.map(|r| {
+            if r <= NEWTON_REYNOLDS * NEWTON_REYNOLDS {
+                1.0 + 0.15 * RE2_POWER.pow(r)
+            } else {
+                NEWTON_DRAG_COEFFICIENT * r.sqrt() / 24.0
+            }
+        })
     }
 }
 

@@ -1,7 +1,7 @@
 //! Forward Euler.
 
 use super::{ForceField, Scheme};
-use glam::DVec3;
+use crate::lanes::Vector;
 
 /// Forward (explicit) Euler: `x' = x + h v`, `v' = v + h a(x, v)`. Order 1; stable only for
 /// `h < 2τ`. Offered for the accuracy study, not for production runs.
@@ -14,8 +14,8 @@ impl Scheme for Euler {
     const STABILITY_INTERVAL: f64 = 2.0;
 
     #[inline(always)]
-    fn advance<F: ForceField>(self, f: &F, x: DVec3, v: DVec3, h: f64) -> (DVec3, DVec3) {
+    fn advance<V: Vector, F: ForceField<V>>(self, f: &F, x: V, v: V, h: f64) -> (V, V) {
         let a = f.eval(x, v).total(v);
-        (x + h * v, v + h * a)
+        (x + v * h, v + a * h)
     }
 }

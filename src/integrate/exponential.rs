@@ -1,7 +1,7 @@
 //! Exponential integrator: the linear drag part is integrated exactly.
 
 use super::{ForceField, Linear, Scheme};
-use glam::DVec3;
+use crate::lanes::{Real, Vector};
 
 /// Exponential midpoint scheme. With the coefficients of [`Linear`] frozen, the equation
 /// `dv/dt = a + λ(u − v)` has the exact solution (`z = −λh`)
@@ -44,10 +44,10 @@ fn phi12_closed(z: f64) -> (f64, f64) {
 }
 
 #[inline]
-fn frozen_step(l: &Linear, x: DVec3, v: DVec3, h: f64) -> (DVec3, DVec3) {
+fn frozen_step<V: Vector>(l: &Linear<V>, x: V, v: V, h: f64) -> (V, V) {
     let a = l.total(v);
-    let (phi1, phi2) = phi12(-l.inv_tau * h);
-    (x + h * v + (h * h * phi2) * a, v + (h * phi1) * a)
+    let (phi1, phi2) = l.inv_tau.map2(|rate| phi12(-rate * h));
+    (x + v * h + a * (phi2 * (h * h)), v + a * (phi1 * h))
 }
 
 impl Scheme for Exponential {
@@ -56,7 +56,7 @@ impl Scheme for Exponential {
     const STABILITY_INTERVAL: f64 = f64::INFINITY;
 
     #[inline(always)]
-    fn advance<F: ForceField>(self, f: &F, x: DVec3, v: DVec3, h: f64) -> (DVec3, DVec3) {
+    fn advance<V: Vector, F: ForceField<V>>(self, f: &F, x: V, v: V, h: f64) -> (V, V) {
         let l0 = f.eval(x, v);
         let (xm, vm) = frozen_step(&l0, x, v, 0.5 * h);
         let lm = f.eval(xm, vm);

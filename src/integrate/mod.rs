@@ -17,34 +17,36 @@ pub use rk4::Rk4;
 
 use crate::effects::DragLaw;
 use crate::fluid::FlowField;
+use crate::lanes::{Real, Vector};
 use glam::DVec3;
 use serde::Deserialize;
 use std::marker::PhantomData;
 
 /// A particle's acceleration at one state, linearised in its velocity `v`:
 /// `a = explicit + inv_tau (u − v)` (OpenFOAM's `forceSuSp` idea, ARCHITECTURE.md rule 2).
+/// Of one particle (`V = DVec3`) or of a lane group of four ([`crate::lanes::DVec3x4`]).
 #[derive(Debug, Clone, Copy, PartialEq)]
-pub struct Linear {
+pub struct Linear<V: Vector = DVec3> {
     /// Acceleration that does not depend on `v` (m/s²).
-    pub explicit: DVec3,
+    pub explicit: V,
     /// Drag rate `1/τ = 3π μ d f(Re) / m_eff` (1/s); 0 without drag.
-    pub inv_tau: f64,
+    pub inv_tau: V::Real,
     /// Fluid velocity the drag pulls towards (m/s).
-    pub u: DVec3,
+    pub u: V,
 }
 
-impl Linear {
+impl<V: Vector> Linear<V> {
     /// The total acceleration at velocity `v` (m/s²).
     #[inline(always)]
-    pub fn total(&self, v: DVec3) -> DVec3 {
-        self.explicit + self.inv_tau * (self.u - v)
+    pub fn total(&self, v: V) -> V {
+        self.explicit + (self.u - v) * self.inv_tau
     }
 }
 
-/// A force field for one particle: the acceleration at a state.
-pub trait ForceField {
+/// A force field for one particle, or for a lane group: the acceleration at a state.
+pub trait ForceField<V: Vector = DVec3> {
     /// The linearised acceleration at position `x` (m) and velocity `v` (m/s).
-    fn eval(&self, x: DVec3, v: DVec3) -> Linear;
+    fn eval(&self, x: V, v: V) -> Linear<V>;
 }
 
 /// An integration scheme, as a type so that the hot loop is compiled for it.
@@ -54,8 +56,9 @@ pub trait Scheme: Copy + Send + Sync + 'static {
     /// Real-axis stability interval: the scheme is stable on the linear decay `v' = −λ v` for
     /// `λ h` below this (∞ when it is stable for every step).
     const STABILITY_INTERVAL: f64;
-    /// Advances `(x, v)` by `h` (s) under `f`; returns the new `(x, v)`.
-    fn advance<F: ForceField>(self, f: &F, x: DVec3, v: DVec3, h: f64) -> (DVec3, DVec3);
+    /// Advances `(x, v)` by `h` (s) under `f`; returns the new `(x, v)`. Of one particle or of
+    /// a lane group, with the same operations in the same order.
+    fn advance<V: Vector, F: ForceField<V>>(self, f: &F, x: V, v: V, h: f64) -> (V, V);
 }
 
 /// The integrator a scene chooses (`simulation.integrator`).
@@ -104,28 +107,29 @@ impl IntegratorKind {
     }
 }
 
-/// The force on one particle: its kind's constant acceleration plus drag of law `D` in flow `F`.
+/// The force on one particle (or on each of a lane group): its kind's constant acceleration
+/// plus drag of law `D` in flow `F`.
 #[derive(Debug, Clone, Copy)]
-pub struct ParticleForce<D, F> {
+pub struct ParticleForce<D, F, V: Vector = DVec3> {
     /// Constant acceleration (m/s²): gravity, buoyancy over the inertia.
-    pub accel: DVec3,
+    pub accel: V,
     /// Stokes drag rate `18 μ / ((ρp + C_M ρ) d²)` (1/s).
-    pub stokes_rate: f64,
+    pub stokes_rate: V::Real,
     /// `ρ d / μ` (s/m): the Reynolds number per unit slip speed.
-    pub re_per_speed: f64,
+    pub re_per_speed: V::Real,
     /// The fluid velocity field.
     pub flow: F,
     /// The drag law.
     pub law: PhantomData<D>,
 }
 
-impl<D: DragLaw, F: FlowField> ForceField for ParticleForce<D, F> {
+impl<D: DragLaw, F: FlowField, V: Vector> ForceField<V> for ParticleForce<D, F, V> {
     #[inline(always)]
-    fn eval(&self, x: DVec3, v: DVec3) -> Linear {
+    fn eval(&self, x: V, v: V) -> Linear<V> {
         if !D::ACTIVE {
-            return Linear { explicit: self.accel, inv_tau: 0.0, u: DVec3::ZERO };
+            return Linear { explicit: self.accel, inv_tau: V::Real::splat(0.0), u: V::ZERO };
         }
-        let u = self.flow.velocity(x);
+        let u = self.flow.velocity_of(x);
         let re2 = self.re_per_speed * self.re_per_speed * (v - u).length_squared();
         Linear { explicit: self.accel, inv_tau: self.stokes_rate * D::factor_of_squared(re2), u }
     }
@@ -153,8 +157,9 @@ impl<F: ForceField> ForceField for Tangential<'_, F> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::effects::Stokes;
-    use crate::fluid::Uniform;
+    use crate::effects::{NoDrag, SchillerNaumann, Stokes};
+    use crate::fluid::{Poiseuille, Quiescent, Uniform};
+    use crate::lanes::{DVec3x4, F64x4, LANES};
 
     /// Stokes settling from rest in a uniform flow: the closed form of PHYSICS.md §1.
     fn stokes_case() -> (ParticleForce<Stokes, Uniform>, impl Fn(f64) -> (DVec3, DVec3)) {
@@ -184,6 +189,100 @@ mod tests {
         }
         let (xe, ve) = exact(t_end);
         (x - xe).length() / xe.length() + (v - ve).length() / ve.length()
+    }
+
+    /// Four particles per group, as many groups as given: positions, velocities, kinds'
+    /// accelerations and diameters drawn so that the groups hold zero slip (`Re = 0`, outside
+    /// the power's table), creeping, intermediate and Newton-regime (`Re > 1000`) particles,
+    /// alone and mixed.
+    fn lane_groups(groups: usize) -> Vec<[(DVec3, DVec3, DVec3, f64); LANES]> {
+        use rand::{Rng, SeedableRng};
+        let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(7);
+        let vec = |scale: f64, rng: &mut rand_chacha::ChaCha8Rng| {
+            DVec3::new(rng.random_range(-1.0..1.0), rng.random_range(-1.0..1.0), rng.random_range(-1.0..1.0))
+                * scale
+        };
+        (0..groups)
+            .map(|g| {
+                std::array::from_fn(|lane| {
+                    // Slip speeds from 0 and 1e-15 m/s to 30 m/s; in a group, either one
+                    // regime or a mix.
+                    let decade = if g % 3 == 0 { (g / 3) % 17 } else { rng.random_range(0..17) };
+                    let speed =
+                        if decade == 0 && lane % 2 == 0 { 0.0 } else { 3e-16 * 10f64.powi(decade as i32) };
+                    let x = vec(0.05, &mut rng);
+                    (x, vec(speed, &mut rng), vec(10.0, &mut rng), rng.random_range(1e-4..5e-3))
+                })
+            })
+            .collect()
+    }
+
+    /// One step of every group by lanes, and of each particle alone: the same bits.
+    fn lanes_match_one_by_one<S: Scheme, D: DragLaw, F: FlowField>(scheme: S, flow: F) {
+        let (drag_rate, re_rate) = (1.8e-3, 2.5e6);
+        for group in lane_groups(400) {
+            let h = 1e-3;
+            let field = |accel: DVec3, d: f64| ParticleForce::<D, F> {
+                accel,
+                stokes_rate: drag_rate / (d * d),
+                re_per_speed: re_rate * d,
+                flow,
+                law: PhantomData,
+            };
+            let lanes = ParticleForce::<D, F, DVec3x4> {
+                accel: DVec3x4::from_array(group.map(|p| p.2)),
+                stokes_rate: F64x4::splat(drag_rate)
+                    / (F64x4(group.map(|p| p.3)) * F64x4(group.map(|p| p.3))),
+                re_per_speed: F64x4(group.map(|p| p.3)) * re_rate,
+                flow,
+                law: PhantomData,
+            };
+            let (x, v) = (DVec3x4::from_array(group.map(|p| p.0)), DVec3x4::from_array(group.map(|p| p.1)));
+            let (x1, v1) = scheme.advance(&lanes, x, v, h);
+            let (x1, v1) = (x1.to_array(), v1.to_array());
+            for (lane, p) in group.iter().enumerate() {
+                let (xs, vs) = scheme.advance(&field(p.2, p.3), p.0, p.1, h);
+                let same =
+                    |a: DVec3, b: DVec3| a.to_array().map(f64::to_bits) == b.to_array().map(f64::to_bits);
+                assert!(
+                    same(x1[lane], xs) && same(v1[lane], vs),
+                    "lane {lane} of {group:?}: {:?} vs {:?}",
+                    (x1[lane], v1[lane]),
+                    (xs, vs)
+                );
+            }
+        }
+    }
+
+    fn lanes_match_one_by_one_for_every_law_and_flow<S: Scheme>(s: S) {
+        let pipe = Poiseuille { point: DVec3::ZERO, axis: DVec3::Z, radius: 0.04, max_velocity: 0.3 };
+        let uniform = Uniform(DVec3::new(0.0, 0.01, 0.2));
+        lanes_match_one_by_one::<S, NoDrag, _>(s, Quiescent);
+        lanes_match_one_by_one::<S, Stokes, _>(s, uniform);
+        lanes_match_one_by_one::<S, SchillerNaumann, _>(s, Quiescent);
+        lanes_match_one_by_one::<S, SchillerNaumann, _>(s, uniform);
+        lanes_match_one_by_one::<S, SchillerNaumann, _>(s, pipe);
+        lanes_match_one_by_one::<S, Stokes, _>(s, pipe);
+    }
+
+    #[test]
+    fn euler_lane_groups_give_the_bits_of_one_particle_at_a_time() {
+        lanes_match_one_by_one_for_every_law_and_flow(Euler);
+    }
+
+    #[test]
+    fn rk2_lane_groups_give_the_bits_of_one_particle_at_a_time() {
+        lanes_match_one_by_one_for_every_law_and_flow(Rk2);
+    }
+
+    #[test]
+    fn rk4_lane_groups_give_the_bits_of_one_particle_at_a_time() {
+        lanes_match_one_by_one_for_every_law_and_flow(Rk4);
+    }
+
+    #[test]
+    fn exponential_lane_groups_give_the_bits_of_one_particle_at_a_time() {
+        lanes_match_one_by_one_for_every_law_and_flow(Exponential);
     }
 
     fn observed_order<S: Scheme>(s: S) -> f64 {

@@ -1,7 +1,7 @@
 //! Heun's second-order Runge–Kutta method, L06's integrator.
 
 use super::{ForceField, Scheme};
-use glam::DVec3;
+use crate::lanes::Vector;
 
 /// Heun's method (the explicit trapezoidal rule), the two-stage Runge–Kutta scheme with
 /// tableau `c = (0, 1)`, `b = (1/2, 1/2)`:
@@ -19,10 +19,10 @@ impl Scheme for Rk2 {
     const STABILITY_INTERVAL: f64 = 2.0;
 
     #[inline(always)]
-    fn advance<F: ForceField>(self, f: &F, x: DVec3, v: DVec3, h: f64) -> (DVec3, DVec3) {
+    fn advance<V: Vector, F: ForceField<V>>(self, f: &F, x: V, v: V, h: f64) -> (V, V) {
         let a1 = f.eval(x, v).total(v);
-        let (x2, v2) = (x + h * v, v + h * a1);
+        let (x2, v2) = (x + v * h, v + a1 * h);
         let a2 = f.eval(x2, v2).total(v2);
-        (x + 0.5 * h * (v + v2), v + 0.5 * h * (a1 + a2))
+        (x + (v + v2) * (0.5 * h), v + (a1 + a2) * (0.5 * h))
     }
 }

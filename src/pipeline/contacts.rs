@@ -60,7 +60,7 @@ impl<'a, M: Motion> Ctx<'a, M> {
         next: (&[DVec3], &[DVec3], &[State]),
         i: usize,
         t0: f64,
-    ) -> Track<M::Field> {
+    ) -> Track<M::Field<DVec3>> {
         let (k, d) = (p.kind[i] as usize, p.diameter[i]);
         Track {
             i,
@@ -80,18 +80,18 @@ impl<'a, M: Motion> Ctx<'a, M> {
         }
     }
 
-    fn at(&self, tr: &Track<M::Field>, t: f64) -> (DVec3, DVec3) {
+    fn at(&self, tr: &Track<M::Field<DVec3>>, t: f64) -> (DVec3, DVec3) {
         let f = fly(self, &tr.field, tr.r(), &tr.seg, t - tr.seg.t);
         (f.x, f.v)
     }
 
-    fn restart(&self, tr: &mut Track<M::Field>, seg: Segment, t1: f64) {
+    fn restart(&self, tr: &mut Track<M::Field<DVec3>>, seg: Segment, t1: f64) {
         tr.seg = seg;
         tr.end = fly(self, &tr.field, tr.r(), &tr.seg, t1 - seg.t);
     }
 
     /// Inertia in the force balance (kg), ∞ for a particle held at a wall.
-    fn inertia(&self, tr: &Track<M::Field>) -> f64 {
+    fn inertia(&self, tr: &Track<M::Field<DVec3>>) -> f64 {
         if tr.immobile() { f64::INFINITY } else { self.inertia_of(tr.k, tr.d) }
     }
 
@@ -101,7 +101,7 @@ impl<'a, M: Motion> Ctx<'a, M> {
     }
 
     /// The first wall the track's path reaches before `t1`, and when.
-    fn next_wall_event(&self, tr: &Track<M::Field>, t1: f64) -> Option<(usize, f64)> {
+    fn next_wall_event(&self, tr: &Track<M::Field<DVec3>>, t1: f64) -> Option<(usize, f64)> {
         if tr.immobile() {
             return None;
         }
@@ -127,13 +127,18 @@ impl<'a, M: Motion> Ctx<'a, M> {
     }
 
     /// When the paths of `a` and `b` first bring them into contact before `t1`.
-    fn next_pair_event(&self, a: &Track<M::Field>, b: &Track<M::Field>, t1: f64) -> Option<f64> {
+    fn next_pair_event(
+        &self,
+        a: &Track<M::Field<DVec3>>,
+        b: &Track<M::Field<DVec3>>,
+        t1: f64,
+    ) -> Option<f64> {
         if a.immobile() && b.immobile() {
             return None;
         }
         // A particle held at a wall is where it is whatever the time: its segment starts at its
         // release, which may be after this step, and must not delay the other's path.
-        let start = |tr: &Track<M::Field>| if tr.immobile() { f64::NEG_INFINITY } else { tr.seg.t };
+        let start = |tr: &Track<M::Field<DVec3>>| if tr.immobile() { f64::NEG_INFINITY } else { tr.seg.t };
         let t = start(a).max(start(b));
         if t >= t1 {
             return None;
@@ -164,7 +169,7 @@ impl<'a, M: Motion> Ctx<'a, M> {
     fn wall_event(
         &self,
         p: &Particles,
-        tr: &mut Track<M::Field>,
+        tr: &mut Track<M::Field<DVec3>>,
         w: usize,
         t: f64,
         t1: f64,
@@ -217,8 +222,8 @@ impl<'a, M: Motion> Ctx<'a, M> {
     fn pair_event(
         &self,
         p: &Particles,
-        a: &mut Track<M::Field>,
-        b: &mut Track<M::Field>,
+        a: &mut Track<M::Field<DVec3>>,
+        b: &mut Track<M::Field<DVec3>>,
         t: f64,
         t1: f64,
         events: &mut Vec<ContactEvent>,
@@ -226,7 +231,7 @@ impl<'a, M: Motion> Ctx<'a, M> {
         let ((xa, va), (xb, vb)) = (self.at(a, t), self.at(b, t));
         let n = (xb - xa).normalize_or(DVec3::Z);
         let (ma, mb) = (self.inertia(a), self.inertia(b));
-        let body = |tr: &Track<M::Field>, m: f64, v: DVec3| PairBody {
+        let body = |tr: &Track<M::Field<DVec3>>, m: f64, v: DVec3| PairBody {
             kind: &self.kinds[tr.k],
             d: tr.d,
             inertia: m,
@@ -263,7 +268,7 @@ impl<'a, M: Motion> Ctx<'a, M> {
             events.last()
         );
         // A particle on or held at a wall keeps that state; a free one is held with its partner.
-        let state = |tr: &Track<M::Field>| match (imp.outcome, tr.seg.state) {
+        let state = |tr: &Track<M::Field<DVec3>>| match (imp.outcome, tr.seg.state) {
             (_, State::Resting) => State::Resting,
             (_, State::Held) if tr.immobile() => State::Held,
             (Outcome::Held, _) => State::Held,
@@ -294,10 +299,10 @@ impl<'a, M: Motion> Ctx<'a, M> {
     pub(crate) fn resolve_island(
         &self,
         p: &Particles,
-        mut tracks: Vec<Track<M::Field>>,
+        mut tracks: Vec<Track<M::Field<DVec3>>>,
         pairs: &[[usize; 2]],
         t1: f64,
-    ) -> IslandResult<M::Field> {
+    ) -> IslandResult<M::Field<DVec3>> {
         use std::cmp::Reverse;
         use std::collections::BinaryHeap;
         let mut events = Vec::new();
@@ -313,10 +318,10 @@ impl<'a, M: Motion> Ctx<'a, M> {
         // same way on every run.
         type Entry = (Reverse<Time>, u8, usize, usize, u32, u32);
         let mut queue: BinaryHeap<Entry> = BinaryHeap::new();
-        let wall_entry = |tracks: &[Track<M::Field>], version: &[u32], k: usize| {
+        let wall_entry = |tracks: &[Track<M::Field<DVec3>>], version: &[u32], k: usize| {
             self.next_wall_event(&tracks[k], t1).map(|(w, t)| (Reverse(Time(t)), 0, k, w, version[k], 0))
         };
-        let pair_entry = |tracks: &[Track<M::Field>], version: &[u32], q: usize| {
+        let pair_entry = |tracks: &[Track<M::Field<DVec3>>], version: &[u32], q: usize| {
             let [a, b] = pairs[q];
             self.next_pair_event(&tracks[a], &tracks[b], t1)
                 .map(|t| (Reverse(Time(t)), 1, q, 0, version[a], version[b]))
@@ -400,7 +405,7 @@ pub(crate) fn run<M: Motion>(
     use rayon::prelude::*;
     let islands = islands(&scratch.candidates, &scratch.pair_candidates);
     let next = (&scratch.next_pos[..], &scratch.next_vel[..], &scratch.next_state[..]);
-    let results: Vec<IslandResult<M::Field>> = islands
+    let results: Vec<IslandResult<M::Field<DVec3>>> = islands
         .par_iter()
         .map(|(members, pairs)| {
             let tracks = members.iter().map(|&i| ctx.track(p, next, i, t0)).collect();

@@ -40,6 +40,7 @@ use crate::contact::{BounceRule, ImpactLocation};
 use crate::effects::Physics;
 use crate::fluid::Fluid;
 use crate::integrate::IntegratorKind;
+use crate::lanes::{DVec3x4, F64x4, LANES, each};
 use crate::particles::{NO_WALL, PairContact, ParticleKind, Particles, State};
 use crate::walls::Wall;
 use glam::DVec3;
@@ -145,8 +146,16 @@ pub(crate) struct Ctx<'a, M> {
 impl<'a, M: Motion> Ctx<'a, M> {
     /// The force field of a particle of kind `k` and diameter `d`.
     #[inline(always)]
-    pub fn field(&self, k: usize, d: f64) -> M::Field {
+    pub fn field(&self, k: usize, d: f64) -> M::Field<DVec3> {
         self.motion.field(self.kind_accel[k], self.kind_drag_rate[k] / (d * d), self.re_rate * d)
+    }
+
+    /// [`Ctx::field`] of a lane group: kinds `k`, diameters `d`.
+    #[inline(always)]
+    pub fn field_lanes(&self, k: [u16; LANES], d: F64x4) -> M::Field<DVec3x4> {
+        let accel = DVec3x4::from_array(each(k, |k| self.kind_accel[k as usize]));
+        let drag_rate = F64x4(each(k, |k| self.kind_drag_rate[k as usize]));
+        self.motion.field(accel, drag_rate / (d * d), d * self.re_rate)
     }
 }
 
@@ -176,7 +185,7 @@ const FALL_AWAY: f64 = 1e-3;
 
 /// Integrates one segment over `h` (s): free flight, sliding on the wall, or nothing (held).
 #[inline]
-pub(crate) fn fly<M: Motion>(ctx: &Ctx<M>, field: &M::Field, r: f64, seg: &Segment, h: f64) -> Flight {
+pub(crate) fn fly<M: Motion>(ctx: &Ctx<M>, field: &M::Field<DVec3>, r: f64, seg: &Segment, h: f64) -> Flight {
     match seg.state {
         // Held at a wall: immobilised.
         State::Held if seg.wall != NO_WALL => Flight { x: seg.x, v: seg.v, state: State::Held },

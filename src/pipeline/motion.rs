@@ -4,18 +4,20 @@
 use crate::effects::{DragLaw, DragLawKind, NoDrag, SchillerNaumann, Stokes};
 use crate::fluid::{self, Flow, FlowField};
 use crate::integrate::{Euler, Exponential, ForceField, IntegratorKind, ParticleForce, Rk2, Rk4, Scheme};
-use glam::DVec3;
+use crate::lanes::Vector;
 use std::marker::PhantomData;
 
 /// Free flight of one particle: its force field and the integrator.
 pub trait Motion: Sync {
-    /// The force field of one particle.
-    type Field: ForceField + Send + Sync;
+    /// The force field of one particle (`V = DVec3`) or of a lane group.
+    type Field<V: Vector>: ForceField<V> + Send + Sync;
+    /// Whether free flight runs by lane groups ([`crate::effects::DragLaw::LANE_GROUPS`]).
+    const LANE_GROUPS: bool;
     /// The field of a particle with constant acceleration `accel` (m/s²), Stokes drag rate
     /// `stokes_rate` (1/s) and Reynolds number per unit slip speed `re_per_speed` (s/m).
-    fn field(&self, accel: DVec3, stokes_rate: f64, re_per_speed: f64) -> Self::Field;
+    fn field<V: Vector>(&self, accel: V, stokes_rate: V::Real, re_per_speed: V::Real) -> Self::Field<V>;
     /// One integrator step of `h` (s) under `f`.
-    fn advance<G: ForceField>(&self, f: &G, x: DVec3, v: DVec3, h: f64) -> (DVec3, DVec3);
+    fn advance<V: Vector, G: ForceField<V>>(&self, f: &G, x: V, v: V, h: f64) -> (V, V);
 }
 
 /// [`Motion`] for integrator `S`, drag law `D` and flow `F`.
@@ -27,15 +29,16 @@ pub struct Mover<S, D, F> {
 }
 
 impl<S: Scheme, D: DragLaw, F: FlowField> Motion for Mover<S, D, F> {
-    type Field = ParticleForce<D, F>;
+    type Field<V: Vector> = ParticleForce<D, F, V>;
+    const LANE_GROUPS: bool = D::LANE_GROUPS;
 
     #[inline(always)]
-    fn field(&self, accel: DVec3, stokes_rate: f64, re_per_speed: f64) -> Self::Field {
+    fn field<V: Vector>(&self, accel: V, stokes_rate: V::Real, re_per_speed: V::Real) -> Self::Field<V> {
         ParticleForce { accel, stokes_rate, re_per_speed, flow: self.flow, law: PhantomData }
     }
 
     #[inline(always)]
-    fn advance<G: ForceField>(&self, f: &G, x: DVec3, v: DVec3, h: f64) -> (DVec3, DVec3) {
+    fn advance<V: Vector, G: ForceField<V>>(&self, f: &G, x: V, v: V, h: f64) -> (V, V) {
         self.scheme.advance(f, x, v, h)
     }
 }

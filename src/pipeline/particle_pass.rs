@@ -3,9 +3,11 @@
 //! [`release::particle`], [`free_flight::particle`] and [`broad_phase::touches_wall`].
 
 use super::{Ctx, Motion, Scratch, broad_phase, free_flight, release};
+use crate::lanes::{DVec3x4, F64x4, LANES};
 use crate::particles::{Particles, State};
 use crate::walls::Surface;
 use glam::DVec3;
+use multiversion::{multiversion, target::selected_target};
 use rayon::prelude::*;
 
 /// Particles per parallel task: large enough to hide the scheduling, small enough to share 2
@@ -103,15 +105,38 @@ struct Columns<'a> {
 
 /// A chunk of free particles only (the bulk of a dilute scene): 1. has nothing to release,
 /// 2. is one integrator step, 3. one test per wall. A loop of its own, so that the compiler
-/// keeps its few values in registers.
+/// keeps its few values in registers. Compiled twice, for AVX2 and for any x86-64 (or other
+/// target), and picked at run time by `multiversion`: the same operations, so the same bits.
+/// Everything it calls in the loops must be inlined (`#[inline(always)]`, no `Iterator`
+/// adaptor with a closure, no `<[T; N]>::map`): a call out of the AVX2 copy runs without AVX2
+/// and passes its values through memory.
+#[multiversion(targets("x86_64+avx2"))]
 fn free_chunk<M: Motion>(ctx: &Ctx<M>, c: Columns, t0: f64, t1: f64) -> Chunk {
-    // 2. alone first: a short loop body lets the processor overlap the long chains of dependent
-    // operations (a square root, a power) of consecutive particles.
-    for j in 0..c.pos.len() {
-        // Free at the start of the step: released, if ever, before t0.
-        debug_assert!(c.release_time[j] <= t0);
+    // Free at the start of the step: released, if ever, before t0.
+    debug_assert!(c.release_time.iter().all(|&t| t <= t0));
+    // 2. alone first, by lane groups of four particles where that pays (`crate::lanes`), the
+    // few left over one by one: the same operations either way, so the same bits.
+    let h = t1 - t0;
+    // Lane groups pay for every law where one vector instruction holds a whole group (AVX2),
+    // and otherwise for the laws that say so.
+    let wide = matches!(selected_target!().suggested_simd_width::<f64>(), Some(w) if w >= LANES);
+    let lanes_pay = M::LANE_GROUPS || wide;
+    let by_lanes = if lanes_pay { c.pos.len() / LANES * LANES } else { 0 };
+    let (pos, vel, kind, diameter) = (
+        c.pos[..by_lanes].as_chunks::<LANES>().0,
+        c.vel[..by_lanes].as_chunks::<LANES>().0,
+        c.kind[..by_lanes].as_chunks::<LANES>().0,
+        c.diameter[..by_lanes].as_chunks::<LANES>().0,
+    );
+    let (x1, v1) = (c.x1[..by_lanes].as_chunks_mut::<LANES>().0, c.v1[..by_lanes].as_chunks_mut::<LANES>().0);
+    for (((((x, v), k), d), x1), v1) in pos.iter().zip(vel).zip(kind).zip(diameter).zip(x1).zip(v1) {
+        let field = ctx.field_lanes(*k, F64x4(*d));
+        let (xn, vn) = ctx.motion.advance(&field, DVec3x4::from_array(*x), DVec3x4::from_array(*v), h);
+        (*x1, *v1) = (xn.to_array(), vn.to_array());
+    }
+    for j in by_lanes..c.pos.len() {
         let field = ctx.field(c.kind[j] as usize, c.diameter[j]);
-        (c.x1[j], c.v1[j]) = ctx.motion.advance(&field, c.pos[j], c.vel[j], t1 - t0);
+        (c.x1[j], c.v1[j]) = ctx.motion.advance(&field, c.pos[j], c.vel[j], h);
     }
     c.s1.fill(State::Free);
     // 3. (walls), and what the step needs to know of the moves.
@@ -123,9 +148,13 @@ fn free_chunk<M: Motion>(ctx: &Ctx<M>, c: Columns, t0: f64, t1: f64) -> Chunk {
         let (x, xn, vn, r) = (c.pos[j], c.x1[j], c.v1[j], 0.5 * c.diameter[j]);
         sum += (xn + vn).element_sum();
         // `broad_phase::touches_wall` for a free particle, written out: calling it here (with
-        // the state a constant) made this loop half as fast.
-        if ctx.walls.iter().any(|w| w.shape.may_touch(x, xn, r)) {
-            out.candidates.push((c.base + j) as u32);
+        // the state a constant) made this loop half as fast. A plain loop, not `any`, whose
+        // closure is a call of its own in the AVX2 copy of this function (also half as fast).
+        for w in ctx.walls {
+            if w.shape.may_touch(x, xn, r) {
+                out.candidates.push((c.base + j) as u32);
+                break;
+            }
         }
         // Squared: one square root per step, not one per particle.
         out.step_move = out.step_move.max((xn - x).length_squared());
