@@ -82,7 +82,7 @@ struct Scratch {
 }
 
 /// Everything a simulation is: the world state and the fixed parameters of the scene.
-#[derive(Debug)]
+#[derive(Debug, Clone)]
 pub struct Simulation {
     /// Simulated time (s).
     pub time: f64,
