@@ -27,18 +27,17 @@ pub fn each<T, U>(a: [T; LANES], f: impl Fn(T) -> U) -> [U; LANES] {
     [f(a0), f(a1), f(a2), f(a3)]
 }
 
-/// A real number per lane.
-pub trait Real:
-    Copy
-    + Send
-    + Sync
-    + 'static
-    + Add<Output = Self>
-    + Sub<Output = Self>
-    + Mul<Output = Self>
-    + Div<Output = Self>
-    + Mul<f64, Output = Self>
+/// What reals and vectors per lane have in common: a value per lane that adds, subtracts and
+/// scales by one `f64`.
+pub trait Lanes:
+    Copy + Send + Sync + 'static + Add<Output = Self> + Sub<Output = Self> + Mul<f64, Output = Self>
 {
+}
+
+impl<T: Copy + Send + Sync + 'static + Add<Output = T> + Sub<Output = T> + Mul<f64, Output = T>> Lanes for T {}
+
+/// A real number per lane.
+pub trait Real: Lanes + Mul<Output = Self> + Div<Output = Self> {
     /// `x` in every lane.
     fn splat(x: f64) -> Self;
     /// `f` of every lane (for what has no lane form: a branch, a library function).
@@ -52,16 +51,7 @@ pub trait Real:
 }
 
 /// A 3-vector per lane.
-pub trait Vector:
-    Copy
-    + Send
-    + Sync
-    + 'static
-    + Add<Output = Self>
-    + Sub<Output = Self>
-    + Mul<f64, Output = Self>
-    + Mul<<Self as Vector>::Real, Output = Self>
-{
+pub trait Vector: Lanes + Mul<<Self as Vector>::Real, Output = Self> {
     /// The matching real number per lane.
     type Real: Real;
     /// The zero vector.
