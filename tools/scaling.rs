@@ -68,15 +68,25 @@ fn scene(case: &str, n: usize) -> Scene {
     Scene::from_str(&text, Path::new("scaling.toml")).unwrap_or_else(|e| panic!("{case}: {e}"))
 }
 
+/// Ends the run with an error line (bad arguments, a file that cannot be written).
+fn fail(message: String) -> ! {
+    eprintln!("error: {message}");
+    std::process::exit(1);
+}
+
 fn main() {
     let args: Vec<String> = std::env::args().skip(1).collect();
-    let max_n: usize = args.get(1).map_or(1_000_000, |s| s.parse().expect("MAX_N must be a whole number"));
+    let max_n: usize = args.get(1).map_or(1_000_000, |s| {
+        s.parse().unwrap_or_else(|_| fail(format!("MAX_N must be a whole number, got {s}")))
+    });
     let only = args.get(2);
     let mut out: Box<dyn Write> = match args.first().filter(|p| *p != "-") {
-        Some(path) => Box::new(std::fs::File::create(path).unwrap_or_else(|e| panic!("{path}: {e}"))),
+        Some(path) => Box::new(std::fs::File::create(path).unwrap_or_else(|e| fail(format!("{path}: {e}")))),
         None => Box::new(std::io::stdout()),
     };
-    writeln!(out, "case,n,threads,steps,wall_s,particle_steps_per_s").expect("write");
+    if let Err(e) = writeln!(out, "case,n,threads,steps,wall_s,particle_steps_per_s") {
+        fail(format!("writing the CSV: {e}"));
+    }
     let cases = [
         "dilute",
         "paper",
@@ -106,13 +116,16 @@ fn main() {
                 let start = Instant::now();
                 pool.install(|| sim.run_steps(steps, base.dt));
                 let wall = start.elapsed().as_secs_f64();
-                writeln!(
+                let row = writeln!(
                     out,
                     "{case},{count},{threads},{steps},{wall:.4},{:.4e}",
                     (count * steps) as f64 / wall
                 )
-                .expect("write");
-                out.flush().expect("flush");
+                .and_then(|()| out.flush());
+                if let Err(e) = row {
+                    // A full disk, or a reader that closed the pipe: stop, saying so.
+                    fail(format!("writing the CSV: {e}"));
+                }
                 // Where the time went, on standard error (the CSV stays plain).
                 eprintln!(
                     "{case} n={count} threads={threads}: {:?}, {} neighbour-list builds, {} lasting contacts",
