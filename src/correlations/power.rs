@@ -98,9 +98,12 @@ impl FixedPower {
     pub fn pow_lanes(&self, x: F64x4) -> F64x4 {
         let bits = each(x.0, f64::to_bits);
         let e = each(bits, |b| (b >> 52) as i64 - 1023);
-        if !F64x4(each(e, |e| e as f64)).all(|e| (E_MIN as f64..=E_MAX as f64).contains(&e)) {
+        let [e0, e1, e2, e3] = each(e, |e| (E_MIN..=E_MAX).contains(&e));
+        if !(e0 & e1 & e2 & e3) {
             return x.map(|x| self.pow(x));
         }
+        // `% ENTRIES` and `% EXPONENTS` below change no index (they are in range already) but
+        // let the compiler drop the bounds checks of the table lookups.
         let j = each(bits, |b| ((b & FRACTION_MASK) >> (52 - MANTISSA_BITS)) as usize % ENTRIES);
         let m = F64x4(each(bits, |b| f64::from_bits((b & FRACTION_MASK) | ONE_BITS)));
         let m_j = F64x4(each(bits, |b| f64::from_bits((b & FRACTION_MASK & !LOW_MASK) | ONE_BITS)));

@@ -67,11 +67,12 @@ pub trait DragLaw: Copy + Send + Sync + 'static {
     /// False only for [`NoDrag`]: the drag term is then left out entirely.
     const ACTIVE: bool;
     /// Whether free flight under this law is faster by lane groups of four particles
-    /// ([`crate::lanes`]) than one by one. Measured on the peer's beads (`tools/step_rate`,
-    /// 1 thread): with Schiller–Naumann's power, lane groups are 1.1–1.9× faster (Euler to
-    /// RK4); with linear (Stokes) or no drag, the few operations per particle do not pay for
-    /// moving the particles into lanes and back (10–20 % slower).
-    const LANE_GROUPS: bool = true;
+    /// ([`crate::lanes`]) than one by one *without AVX2* (with AVX2 lane groups pay for every
+    /// law and are always used). Measured with SSE2 only on the peer's beads
+    /// (`tools/step_rate`, 1 thread): with Schiller–Naumann's power, lane groups are 1.1–1.7×
+    /// faster (Euler to RK2); with linear (Stokes) drag, the few operations per particle do not
+    /// pay for moving the particles into lanes and back (2–13 % slower).
+    const LANE_GROUPS: bool = false;
     /// `f(Re)`, the drag relative to Stokes drag.
     fn factor(re: f64) -> f64;
     /// `f(Re)` from `Re²`, of one particle or a lane group: what the hot loop calls, since
