@@ -89,12 +89,12 @@ impl World {
 
 /// The dilute scene as rapier bodies; `threads` sizes the pipeline's own rayon pool.
 fn dilute_world(scene: &Scene, threads: usize) -> World {
-    let rho = scene.fluid.density;
-    let mu = scene.fluid.viscosity;
-    let kind = scene.kinds.first().expect("the dilute scene has one kind");
+    let rho = scene.setup.fluid.density;
+    let mu = scene.setup.fluid.viscosity;
+    let kind = scene.setup.kinds.first().expect("the dilute scene has one kind");
     let rho_p = kind.density;
     let restitution = 0.9;
-    let g = scene.fluid.gravity * (1.0 - rho / rho_p);
+    let g = scene.setup.fluid.gravity * (1.0 - rho / rho_p);
 
     let mut bodies = RigidBodySet::new();
     let mut colliders = ColliderSet::new();
@@ -136,7 +136,7 @@ fn dilute_world(scene: &Scene, threads: usize) -> World {
     }
 
     let params = IntegrationParameters {
-        dt: scene.dt,
+        dt: scene.setup.dt,
         // Rapier's tolerances (prediction distance, allowed penetration, speed cap) are scaled by
         // the typical object size in metres; at the default 1 m, the 2 cm prediction distance
         // would make every bead a contact candidate of its ~80 lattice neighbours.
@@ -208,12 +208,12 @@ fn wetbounce_dilute_step(c: &mut Criterion) {
                 let mut elapsed = std::time::Duration::ZERO;
                 let mut left = iters as usize;
                 while left > 0 {
-                    if sim.steps >= SCENE_STEPS {
+                    if sim.world.steps >= SCENE_STEPS {
                         sim = scene.simulation();
                     }
-                    let n = left.min((SCENE_STEPS - sim.steps) as usize);
+                    let n = left.min((SCENE_STEPS - sim.world.steps) as usize);
                     let start = std::time::Instant::now();
-                    pool.install(|| sim.run_steps(n, scene.dt));
+                    pool.install(|| sim.run_steps(n, scene.setup.dt));
                     elapsed += start.elapsed();
                     left -= n;
                 }

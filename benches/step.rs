@@ -21,7 +21,7 @@ fn dilute_step(c: &mut Criterion) {
         let text = base.source.replace("integrator = \"euler\"", &format!("integrator = \"{integrator}\""));
         let s = Scene::from_str(&text, &base.path).expect("variant");
         let mut sim = s.simulation();
-        group.bench_with_input(BenchmarkId::from_parameter(integrator), &s.dt, |b, &dt| {
+        group.bench_with_input(BenchmarkId::from_parameter(integrator), &s.setup.dt, |b, &dt| {
             b.iter_custom(|iters| {
                 let start = std::time::Instant::now();
                 sim.run_steps(iters as usize, dt);
@@ -56,13 +56,14 @@ fn column_step(c: &mut Criterion) {
     let mut sim = s.simulation();
     let setup = std::time::Instant::now();
     sim.advance_to(COLUMN_START);
-    sim.injectors.clear();
+    sim.setup.injectors.clear();
+    sim.world.injection.clear();
     // Contact events and lost particles are drained by the output sinks in a real run; here
     // nothing drains them, so they are dropped each step rather than grow for the whole bench.
-    sim.events.clear();
-    sim.lost.clear();
+    sim.record.events.clear();
+    sim.record.lost.clear();
     let saved = sim.clone();
-    let alive = sim.particles.len();
+    let alive = sim.world.particles.len();
     eprintln!(
         "column: advanced to t = {COLUMN_START} s in {:.1} s of setup; {alive} drops alive",
         setup.elapsed().as_secs_f64()
@@ -78,21 +79,23 @@ fn column_step(c: &mut Criterion) {
             let mut timed = std::time::Duration::ZERO;
             let mut left = iters;
             while left > 0 {
-                if sim.time >= COLUMN_START + COLUMN_WINDOW {
+                if sim.world.time >= COLUMN_START + COLUMN_WINDOW {
                     sim = saved.clone();
                 }
-                let n = left.min(((COLUMN_START + COLUMN_WINDOW - sim.time) / s.dt).ceil().max(1.0) as u64);
+                let n = left.min(
+                    ((COLUMN_START + COLUMN_WINDOW - sim.world.time) / s.setup.dt).ceil().max(1.0) as u64,
+                );
                 let start = std::time::Instant::now();
                 // Inside the pool, as in a real run.
                 rayon::scope(|_| {
                     for _ in 0..n {
-                        sim.step(s.dt);
-                        sim.events.clear();
-                        sim.lost.clear();
+                        sim.step(s.setup.dt);
+                        sim.record.events.clear();
+                        sim.record.lost.clear();
                     }
                 });
                 timed += start.elapsed();
-                fewest = fewest.min(sim.particles.len());
+                fewest = fewest.min(sim.world.particles.len());
                 left -= n;
             }
             timed
@@ -109,7 +112,7 @@ fn column_step(c: &mut Criterion) {
 fn single_drop_step(c: &mut Criterion) {
     let s = scene("toluene_drop.toml");
     let mut sim = s.simulation();
-    c.bench_function("toluene_drop_step", |b| b.iter(|| sim.step(s.dt)));
+    c.bench_function("toluene_drop_step", |b| b.iter(|| sim.step(s.setup.dt)));
 }
 
 fn kernels(c: &mut Criterion) {

@@ -1,6 +1,6 @@
 //! The carrier fluid: its properties and its velocity field.
 
-use crate::lanes::Vector;
+use crate::numeric::lanes::Vector;
 use glam::DVec3;
 
 /// The fluid the particles move through. SI units.

@@ -10,7 +10,7 @@ use std::sync::atomic::{AtomicBool, Ordering};
 use wetbounce::output::{
     EventCsv, McapOptions, McapSink, Progress, RunSummary, Sink, Statistics, TrajectoryCsv,
 };
-use wetbounce::pipeline::run::run;
+use wetbounce::run::run;
 use wetbounce::scene::{Scene, kind_reports};
 
 /// Particles and drops bouncing on walls in a viscous fluid (Legendre et al. 2006).
@@ -194,11 +194,11 @@ fn run_scene(args: &RunArgs) -> Result<(String, ExitCode), String> {
         "{}: {} particles, {} integrator, dt = {} s",
         path.display(),
         summary.total(),
-        scene.integrator.name(),
-        scene.dt
+        scene.setup.integrator.name(),
+        scene.setup.dt
     );
     let _ = writeln!(text, "{summary}");
-    for lost in &sim.lost {
+    for lost in &sim.record.lost {
         eprintln!("warning: particle {} became non-finite at t = {} s and was removed", lost.id, lost.time);
     }
     let names: Vec<String> = written.iter().map(|p| p.display().to_string()).collect();
@@ -222,10 +222,10 @@ fn check_scene(path: &Path) -> Result<String, String> {
         text,
         "  {} particles, {} walls, effects [{}], integrator {}, dt = {} s, duration = {} s",
         scene.particles.len(),
-        scene.walls.len(),
-        scene.physics.effect_names.join(", "),
-        scene.integrator.name(),
-        scene.dt,
+        scene.setup.walls.len(),
+        scene.setup.physics.effect_names.join(", "),
+        scene.setup.integrator.name(),
+        scene.setup.dt,
         scene.duration
     );
     if let Some(a) = &scene.auto_step {
@@ -240,16 +240,16 @@ fn check_scene(path: &Path) -> Result<String, String> {
             a.limited_by
         );
     }
-    if scene.impact_location != wetbounce::contact::ImpactLocation::InStep {
-        let _ = writeln!(text, "  impact location: {}", scene.impact_location.name());
+    if scene.setup.impact_location != wetbounce::contact::ImpactLocation::InStep {
+        let _ = writeln!(text, "  impact location: {}", scene.setup.impact_location.name());
     }
     let _ = writeln!(
         text,
         "  bounce: beta = {}, St_c = {}, e_t = {}, hold at contact: {}",
-        scene.rule.beta,
-        scene.rule.st_critical,
-        scene.rule.tangential_restitution,
-        scene.rule.hold_at_contact
+        scene.setup.rule.beta,
+        scene.setup.rule.st_critical,
+        scene.setup.rule.tangential_restitution,
+        scene.setup.rule.hold_at_contact
     );
     let _ = writeln!(
         text,
@@ -277,7 +277,7 @@ fn check_scene(path: &Path) -> Result<String, String> {
             if r.rising { " (rises)" } else { "" }
         );
     }
-    if let Some(wall) = scene.walls.first() {
+    if let Some(wall) = scene.setup.walls.first() {
         let _ = writeln!(text, "  (impact at terminal velocity on wall \"{}\")", wall.name);
     }
     Ok(text)

@@ -38,20 +38,39 @@ pub struct ParticleKind {
 pub enum State {
     /// Moving under the force balance.
     Free = 0,
-    /// Immobilised at a wall for the contact time, then released at `ε V∞`.
+    /// Immobilised at a wall ([`Particles::wall`]) for the contact time, then released at
+    /// `ε V∞`.
     Held = 1,
     /// In lasting contact with a wall (St < St_c): slides, leaves when pulled away.
     Resting = 2,
+    /// Held against another particle for the pair's contact time **[ext]**: it moves, with its
+    /// partner at their common velocity, and has no wall.
+    PairHeld = 3,
 }
 
 impl State {
-    /// The lower-case name written to outputs: `free`, `held`, `resting`.
+    /// The lower-case name written to outputs: `free`, `held`, `resting`. Outputs do not tell
+    /// a hold at a wall from a hold in a pair: both are `held`.
     pub fn name(self) -> &'static str {
         match self {
             State::Free => "free",
-            State::Held => "held",
+            State::Held | State::PairHeld => "held",
             State::Resting => "resting",
         }
+    }
+
+    /// The number written to outputs (the MCAP's `state` field): 0 free, 1 held (at a wall or
+    /// in a pair), 2 resting.
+    pub fn code(self) -> u8 {
+        match self {
+            State::PairHeld => State::Held as u8,
+            s => s as u8,
+        }
+    }
+
+    /// Held, at a wall or in a pair.
+    pub fn is_held(self) -> bool {
+        matches!(self, State::Held | State::PairHeld)
     }
 }
 
@@ -75,7 +94,7 @@ pub struct Particles {
     pub vel: Vec<DVec3>,
     /// Free, held or resting.
     pub state: Vec<State>,
-    /// The wall a held or resting particle touches, [`NO_WALL`] otherwise.
+    /// The wall a held ([`State::Held`]) or resting particle touches, [`NO_WALL`] otherwise.
     pub wall: Vec<u32>,
     /// Simulated time (s) at which a held particle is released, or was last released; a free
     /// particle's free flight in a step starts at `max(t, release_time)`.
@@ -134,41 +153,59 @@ impl Particles {
     }
 }
 
-/// A lasting contact between particles `a < b` (indices): after an impact below `St_c`
-/// (resting: they may not approach) or during a hold (they move together) **[ext]**.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct PairContact {
-    /// Lower particle index.
-    pub a: u32,
-    /// Higher particle index.
-    pub b: u32,
-    /// `Some` during a hold.
-    pub hold: Option<PairHold>,
-    /// Normal force the contact carried in the last step (N, pushing the pair apart): the
-    /// projection starts from it (warm start), so a bed carrying its own weight converges in a
-    /// few sweeps instead of one sweep per layer.
-    pub force: f64,
+/// The particles' state at the end of the step being computed. The rule of the step: stage 1
+/// (release) rewrites the start of the paths whose contacts end, in [`Particles`]; every later
+/// stage reads [`Particles`] (the state at the start of the step) and writes here; commit
+/// swaps this in ([`Particles::commit`]).
+#[derive(Debug, Clone, Default)]
+pub struct Next {
+    /// Centre position (m).
+    pub pos: Vec<DVec3>,
+    /// Velocity (m/s).
+    pub vel: Vec<DVec3>,
+    /// Free, held, pair-held or resting.
+    pub state: Vec<State>,
+    /// The wall of a held or resting particle, [`NO_WALL`] otherwise.
+    pub wall: Vec<u32>,
+    /// Holds at a wall that began in the step (few: kept as a list, not as full columns).
+    pub holds: Vec<WallHold>,
 }
 
-/// The release of a held pair.
+/// A hold at a wall that began in the step: when particle `index` is released, and at what
+/// velocity.
 #[derive(Debug, Clone, Copy, PartialEq)]
-pub struct PairHold {
-    /// When the hold ends (s).
+pub struct WallHold {
+    /// Particle index.
+    pub index: u32,
+    /// Release time (s).
     pub release_time: f64,
-    /// Relative normal speed at release `ε Vn` (m/s), separating.
-    pub normal_speed: f64,
-    /// Relative tangential velocity `v_a − v_b` at release, `e_t` times that at impact (m/s).
-    pub tangential: DVec3,
+    /// Velocity at release (m/s).
+    pub release_vel: DVec3,
 }
 
-impl PairContact {
-    /// A resting contact.
-    pub fn resting(a: u32, b: u32) -> Self {
-        PairContact { a, b, hold: None, force: 0.0 }
+impl Next {
+    /// Sizes the columns for `n` particles (their values are all written by the step) and
+    /// forgets the last step's holds.
+    pub fn resize(&mut self, n: usize) {
+        self.pos.resize(n, DVec3::ZERO);
+        self.vel.resize(n, DVec3::ZERO);
+        self.state.resize(n, State::Free);
+        self.wall.resize(n, NO_WALL);
+        self.holds.clear();
     }
+}
 
-    /// A hold until `release_time`.
-    pub fn held(a: u32, b: u32, release_time: f64, normal_speed: f64, tangential: DVec3) -> Self {
-        PairContact { a, b, hold: Some(PairHold { release_time, normal_speed, tangential }), force: 0.0 }
+impl Particles {
+    /// The step's results replace the state: the columns of `next` are swapped in (its own
+    /// become scratch for the next step) and the holds begun in the step are recorded.
+    pub fn commit(&mut self, next: &mut Next) {
+        std::mem::swap(&mut self.pos, &mut next.pos);
+        std::mem::swap(&mut self.vel, &mut next.vel);
+        std::mem::swap(&mut self.state, &mut next.state);
+        std::mem::swap(&mut self.wall, &mut next.wall);
+        for h in next.holds.drain(..) {
+            self.release_time[h.index as usize] = h.release_time;
+            self.release_vel[h.index as usize] = h.release_vel;
+        }
     }
 }

@@ -56,7 +56,8 @@ position = [0.0, 0.0, 0.0]
     let mut sim = common::scene(&text).simulation();
     sim.advance_to(T_END);
     let (x, v) = exact(T_END);
-    (sim.particles.pos[0] - x).length() / x.length() + (sim.particles.vel[0] - v).length() / v.length()
+    (sim.world.particles.pos[0] - x).length() / x.length()
+        + (sim.world.particles.vel[0] - v).length() / v.length()
 }
 
 fn observed_order(integrator: &str, dt: f64) -> f64 {

@@ -51,7 +51,7 @@ fn ball_in_vacuum_with_eps_1_keeps_its_bounce_height_over_10_bounces() {
     let v0 = (2.0 * G * H0).sqrt();
     let mut bounces = 0;
     while bounces < 10 {
-        let t_next = sim.time + 0.01;
+        let t_next = sim.world.time + 0.01;
         let events = common::run_collect(&mut sim, t_next);
         for e in events {
             assert_eq!(e.outcome, Outcome::Bounced);
@@ -61,15 +61,19 @@ fn ball_in_vacuum_with_eps_1_keeps_its_bounce_height_over_10_bounces() {
             // Apex of the next flight: z = H0 + R exactly.
             let apex = e.time + v0 / G;
             let mut probe = vacuum_scene("rk2", 1.3e-3).simulation();
-            probe.particles = sim.particles.clone();
-            probe.time = sim.time;
-            if apex > probe.time {
+            probe.world.particles = sim.world.particles.clone();
+            probe.world.time = sim.world.time;
+            if apex > probe.world.time {
                 probe.advance_to(apex);
-                let h = probe.particles.pos[0].z - R;
+                let h = probe.world.particles.pos[0].z - R;
                 assert!((h - H0).abs() / H0 < 1e-6, "bounce {bounces}: apex height {h}");
             }
         }
-        assert!(sim.particles.pos[0].z >= R * (1.0 - 1e-12), "below the floor: {}", sim.particles.pos[0].z);
+        assert!(
+            sim.world.particles.pos[0].z >= R * (1.0 - 1e-12),
+            "below the floor: {}",
+            sim.world.particles.pos[0].z
+        );
     }
 }
 

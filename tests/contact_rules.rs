@@ -52,11 +52,15 @@ fn slow_impact_below_st_c_deposits_and_the_bead_rests_without_drift() {
     assert_eq!(events.len(), 1, "{events:#?}");
     assert_eq!(events[0].outcome, Outcome::Deposited);
     assert!(events[0].st < 10.0);
-    let rest = sim.particles.pos[0];
+    let rest = sim.world.particles.pos[0];
     sim.advance_to(1.0);
-    assert_eq!(sim.particles.state[0], State::Resting);
-    assert!((sim.particles.pos[0] - rest).length() < 1e-15, "drifted to {}", sim.particles.pos[0]);
-    assert_eq!(sim.particles.vel[0], DVec3::ZERO);
+    assert_eq!(sim.world.particles.state[0], State::Resting);
+    assert!(
+        (sim.world.particles.pos[0] - rest).length() < 1e-15,
+        "drifted to {}",
+        sim.world.particles.pos[0]
+    );
+    assert_eq!(sim.world.particles.vel[0], DVec3::ZERO);
 }
 
 #[test]
@@ -64,8 +68,8 @@ fn resting_bead_slides_with_the_flow_and_stays_on_the_floor() {
     let flow = r#"flow = { type = "uniform", velocity = [0.01, 0.0, 0.0] }"#;
     let mut sim = bead_scene([0.01, 0.0, 0.0], 1.01e-3, "", flow).simulation();
     sim.advance_to(1.0);
-    assert_eq!(sim.particles.state[0], State::Resting);
-    let (x, v) = (sim.particles.pos[0], sim.particles.vel[0]);
+    assert_eq!(sim.world.particles.state[0], State::Resting);
+    let (x, v) = (sim.world.particles.pos[0], sim.world.particles.vel[0]);
     assert!((x.z - 1e-3).abs() < 1e-15, "z = {}", x.z);
     assert!((v.x - 0.01).abs() < 1e-6 && v.z == 0.0, "v = {v}");
 }
@@ -76,11 +80,11 @@ fn resting_bead_leaves_when_the_net_force_points_away() {
     // upward uniform flow: drag points away from the floor, so the bead leaves at once.
     let flow = r#"flow = { type = "uniform", velocity = [0.0, 0.0, 0.5] }"#;
     let mut sim = bead_scene([0.0; 3], 1.0e-3, "", flow).simulation();
-    sim.particles.state[0] = State::Resting;
-    sim.particles.wall[0] = 0;
+    sim.world.particles.state[0] = State::Resting;
+    sim.world.particles.wall[0] = 0;
     sim.advance_to(0.01);
-    assert_eq!(sim.particles.state[0], State::Free);
-    assert!(sim.particles.pos[0].z > 1.0e-3);
+    assert_eq!(sim.world.particles.state[0], State::Free);
+    assert!(sim.world.particles.pos[0].z > 1.0e-3);
 }
 
 #[test]
@@ -91,14 +95,14 @@ fn fast_impact_rebounds_with_eps_and_tangential_restitution() {
     let mut events = Vec::new();
     while events.is_empty() {
         sim.step(1e-5);
-        events.append(&mut sim.events);
+        events.append(&mut sim.record.events);
     }
     let e = events[0];
     assert_eq!(e.outcome, Outcome::Bounced);
     let expected_eps = 0.95 * (-35.0 / e.st).exp();
     assert!((e.eps - expected_eps).abs() < 1e-15);
     // Right after: v_z = ε V∞ (up to the drag and gravity of a fraction of a 10 µs step).
-    let v = sim.particles.vel[0];
+    let v = sim.world.particles.vel[0];
     assert!((v.z - e.eps * e.normal_speed).abs() < 1e-3 * e.normal_speed, "v = {v}, e = {e:?}");
     assert!((v.x - 0.5 * 0.2).abs() < 2e-3, "v = {v}");
 }
@@ -143,8 +147,8 @@ velocity = [0.0174524, 0.0, 0.9998477]
     for e in &events {
         assert_eq!(e.outcome, Outcome::Bounced);
     }
-    let x = sim.particles.pos[0];
+    let x = sim.world.particles.pos[0];
     assert!(x.truncate().length() <= 0.024 + 1e-12, "outside: {x}");
     // Vacuum, ε_max = 1: speed kept.
-    assert!((sim.particles.vel[0].length() - 1.0).abs() < 1e-6);
+    assert!((sim.world.particles.vel[0].length() - 1.0).abs() < 1e-6);
 }

@@ -58,7 +58,7 @@ position = [0.0, 0.03, 0.0]
     let vt = terminal_velocity(860.0, 997.0, d, 0.89e-3, 9.81, |re| 1.0 + 0.15 * re.powf(0.687)).speed;
     for (i, rho) in [(0, 0.0), (1, 0.01), (2, 0.03)] {
         let u = if rho < radius { u_max * (1.0 - (rho / radius) * (rho / radius)) } else { 0.0 };
-        let v = sim.particles.vel[i];
+        let v = sim.world.particles.vel[i];
         assert!((v.z - (u + vt)).abs() < 1e-6 * vt, "particle {i}: v = {v}, u = {u}, V_t = {vt}");
         assert!(v.x.abs() < 1e-12 && v.y.abs() < 1e-12, "particle {i} drifts sideways: {v}");
     }
@@ -87,6 +87,6 @@ surface_tension = 0.026
 restitution_max = 0.91
 "#,
     );
-    let u = scene.fluid.flow.velocity(glam::DVec3::new(1.0, 2.0, 5.0));
+    let u = scene.setup.fluid.flow.velocity(glam::DVec3::new(1.0, 2.0, 5.0));
     assert_eq!(u, glam::DVec3::new(0.0, 0.0, 0.02));
 }

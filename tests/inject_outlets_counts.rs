@@ -59,26 +59,31 @@ normal = [0.0, 0.0, -1.0]
 "#;
 
 fn removed(sim: &Simulation) -> usize {
-    sim.outlets.iter().map(|o| o.removed.len()).sum::<usize>() + sim.lost.len()
+    sim.record.removed.iter().map(Vec::len).sum::<usize>() + sim.record.lost.len()
 }
 
 #[test]
 fn initial_plus_injected_equals_alive_plus_removed_at_every_step() {
     let scene = common::scene(RISING);
     let mut sim = scene.simulation();
-    let initial = sim.particles.len();
-    while sim.time < 1.0 - 1e-9 {
-        sim.advance_to(sim.time + sim.dt);
-        let injected: u64 = sim.injectors.iter().map(|i| i.injected).sum();
-        assert_eq!(initial + injected as usize, sim.particles.len() + removed(&sim), "t = {}", sim.time);
+    let initial = sim.world.particles.len();
+    while sim.world.time < 1.0 - 1e-9 {
+        sim.advance_to(sim.world.time + sim.setup.dt);
+        let injected: u64 = sim.world.injection.iter().map(|i| i.injected).sum();
+        assert_eq!(
+            initial + injected as usize,
+            sim.world.particles.len() + removed(&sim),
+            "t = {}",
+            sim.world.time
+        );
     }
-    let inj = &sim.injectors[0];
+    let inj = &sim.world.injection[0];
     assert_eq!(inj.due, 1000, "0.5 s at 2000/s");
     assert_eq!(inj.injected + inj.skipped, inj.due);
     assert!(inj.injected > 500, "most injections find a place: {}", inj.injected);
-    assert!(sim.outlets[0].removed.len() > 100, "drops leave through the top");
+    assert!(sim.record.removed[0].len() > 100, "drops leave through the top");
     // The drop that started above the outlet plane is removed at the first step.
-    assert_eq!(sim.outlets[0].removed[0].id, 0);
+    assert_eq!(sim.record.removed[0][0].id, 0);
 }
 
 #[test]
@@ -87,13 +92,13 @@ fn injected_particles_never_start_overlapping_a_particle_or_a_wall() {
     let scene = common::scene(RISING);
     let mut sim = scene.simulation();
     let mut checked = 0;
-    while sim.time < 0.3 {
-        sim.advance_to(sim.time + sim.dt);
-        let p = &sim.particles;
-        for i in (0..p.len()).filter(|&i| p.born[i] == sim.time) {
+    while sim.world.time < 0.3 {
+        sim.advance_to(sim.world.time + sim.setup.dt);
+        let p = &sim.world.particles;
+        for i in (0..p.len()).filter(|&i| p.born[i] == sim.world.time) {
             checked += 1;
             let r = 0.5 * p.diameter[i];
-            for w in &sim.walls {
+            for w in &sim.setup.walls {
                 assert!(
                     w.shape.gap(p.pos[i], r).gap >= 0.0,
                     "particle {} starts in wall {}",
@@ -120,13 +125,13 @@ fn injected_ids_are_new_and_never_reused() {
     let scene = common::scene(RISING);
     let mut sim = scene.simulation();
     sim.advance_to(1.0);
-    let mut ids: Vec<u32> = sim.particles.id.clone();
-    ids.extend(sim.outlets.iter().flat_map(|o| o.removed.iter().map(|r| r.id)));
+    let mut ids: Vec<u32> = sim.world.particles.id.clone();
+    ids.extend(sim.record.removed.iter().flat_map(|o| o.iter().map(|r| r.id)));
     let n = ids.len();
     ids.sort_unstable();
     ids.dedup();
     assert_eq!(ids.len(), n, "an id appears twice");
-    assert_eq!(*ids.last().unwrap() + 1, sim.next_id);
+    assert_eq!(*ids.last().unwrap() + 1, sim.world.next_id);
 }
 
 #[test]
@@ -137,10 +142,10 @@ fn injection_and_removal_do_not_depend_on_the_thread_count() {
             let mut sim = common::scene(RISING).simulation();
             sim.advance_to(0.6);
             let removed: Vec<(u32, u64)> =
-                sim.outlets[0].removed.iter().map(|r| (r.id, r.residence_time.to_bits())).collect();
-            let state: Vec<(u32, [u64; 3], [u64; 3])> = (0..sim.particles.len())
+                sim.record.removed[0].iter().map(|r| (r.id, r.residence_time.to_bits())).collect();
+            let state: Vec<(u32, [u64; 3], [u64; 3])> = (0..sim.world.particles.len())
                 .map(|i| {
-                    let p = &sim.particles;
+                    let p = &sim.world.particles;
                     (p.id[i], p.pos[i].to_array().map(f64::to_bits), p.vel[i].to_array().map(f64::to_bits))
                 })
                 .collect();

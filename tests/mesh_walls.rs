@@ -5,7 +5,7 @@
 
 use glam::DVec3;
 use std::path::{Path, PathBuf};
-use wetbounce::pipeline::Outcome;
+use wetbounce::Outcome;
 use wetbounce::{Other, Scene, Simulation};
 
 /// The plate in its three formats, relative to `scenes/`.
@@ -91,10 +91,10 @@ velocity = [{:e}, {:e}, {:e}]
 
 /// Advances `sim` by `steps` steps of `dt`, returning the lowest centre height at a step end.
 fn run_steps(sim: &mut Simulation, dt: f64, steps: usize) -> f64 {
-    let mut lowest = sim.particles.pos[0].z;
+    let mut lowest = sim.world.particles.pos[0].z;
     for k in 1..=steps {
         sim.advance_to(k as f64 * dt);
-        lowest = lowest.min(sim.particles.pos[0].z);
+        lowest = lowest.min(sim.world.particles.pos[0].z);
     }
     lowest
 }
@@ -130,15 +130,15 @@ fn drop_on(wall: &str, xy: [f64; 2], what: &str) -> f64 {
     // Impact at ~45 ms, back at the top at ~90 ms, second impact at ~135 ms.
     let lowest = run_steps(&mut sim, dt, 1200);
     assert!(lowest >= R * (1.0 - 1e-9), "{what}: the bead went down to z = {lowest}, below its radius {R}");
-    assert_eq!(sim.events.len(), 1, "{what}: {:?}", sim.events);
-    let e = sim.events[0];
+    assert_eq!(sim.record.events.len(), 1, "{what}: {:?}", sim.record.events);
+    let e = sim.record.events[0];
     assert_eq!(e.other, Other::Wall(0), "{what}");
     assert_eq!(e.outcome, Outcome::Bounced, "{what}: {e:?}");
     assert!((e.eps - 1.0).abs() < 1e-12, "{what}: vacuum gives eps_max: {e:?}");
     // Elastic bounce straight up: at 0.12 s the bead is where the mirrored parabola puts it.
-    let (g, t1, t) = (9.81, e.time, sim.time);
+    let (g, t1, t) = (9.81, e.time, sim.world.time);
     let z = R + g * t1 * (t - t1) - 0.5 * g * (t - t1) * (t - t1);
-    let p = sim.particles.pos[0];
+    let p = sim.world.particles.pos[0];
     assert!(
         (p - DVec3::new(xy[0], xy[1], z)).length() < 1e-9,
         "{what}: at t = {t} s the bead is at {p}, expected z = {z}"
@@ -176,18 +176,18 @@ fn fast_bead_stays_above(wall: &str, xy: [f64; 2], what: &str) {
     let mut lowest = f64::INFINITY;
     for k in 1..=5 {
         sim.advance_to(k as f64 * dt);
-        let z = sim.particles.pos[0].z;
+        let z = sim.world.particles.pos[0].z;
         assert!(z > 0.0, "{what}: after step {k} the bead is at z = {z}, inside or below the plate");
         lowest = lowest.min(z);
     }
     assert!(lowest >= R * (1.0 - 1e-9), "{what}: lowest z = {lowest}");
-    assert_eq!(sim.events.len(), 1, "{what}: {:?}", sim.events);
-    let e = sim.events[0];
+    assert_eq!(sim.record.events.len(), 1, "{what}: {:?}", sim.record.events);
+    let e = sim.record.events[0];
     assert_eq!(e.other, Other::Wall(0), "{what}");
     assert_eq!(e.outcome, Outcome::Bounced, "{what}: {e:?}");
     let t_hit = DROP_GAP / 10.0;
     assert!((e.time - t_hit).abs() < 1e-12, "{what}: impact at {} s, expected {t_hit} s", e.time);
-    let v = sim.particles.vel[0];
+    let v = sim.world.particles.vel[0];
     assert!((v - DVec3::new(0.0, 0.0, 10.0)).length() < 1e-9, "{what}: velocity after the bounce {v}");
 }
 

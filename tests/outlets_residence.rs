@@ -41,11 +41,11 @@ normal = [0.0, 0.0, -1.0]
     );
     let mut sim = scene.simulation();
     sim.advance_to(0.5);
-    let out = &sim.outlets[0];
-    assert_eq!(out.name, "outlets[0]");
-    assert_eq!(out.removed.len(), 30, "every bead injected in 0.3 s at 100/s leaves");
-    assert!(sim.particles.is_empty());
-    for r in &out.removed {
+    assert_eq!(sim.setup.outlets[0].name, "outlets[0]");
+    let removed = &sim.record.removed[0];
+    assert_eq!(removed.len(), 30, "every bead injected in 0.3 s at 100/s leaves");
+    assert!(sim.world.particles.is_empty());
+    for r in removed {
         // Born at the end of a step on the disk, crossing z = 0.1 inside a later step.
         assert!(r.residence_time > 0.1 - 1e-9 && r.residence_time <= 0.1 + 1e-3 + 1e-9, "{r:?}");
     }
@@ -110,14 +110,17 @@ wall = "floor"
     let mut sim = scene.simulation();
     let mut floor_events = 0;
     // Bead 0 reaches the floor at about 0.08 s; bead 1, after the lid, only after 0.3 s.
-    while sim.time < 0.2 - 1e-9 {
-        sim.advance_to(sim.time + sim.dt);
-        floor_events += sim.events.iter().filter(|e| e.other == wetbounce::Other::Wall(0)).count();
-        sim.events.clear();
+    while sim.world.time < 0.2 - 1e-9 {
+        sim.advance_to(sim.world.time + sim.setup.dt);
+        floor_events += sim.record.events.iter().filter(|e| e.other == wetbounce::Other::Wall(0)).count();
+        sim.record.events.clear();
     }
-    let out = &sim.outlets[0];
-    assert_eq!(out.removed.iter().map(|r| r.id).collect::<Vec<_>>(), vec![0], "only the bead on the floor");
+    assert_eq!(
+        sim.record.removed[0].iter().map(|r| r.id).collect::<Vec<_>>(),
+        vec![0],
+        "only the bead on the floor"
+    );
     assert_eq!(floor_events, 1);
     // The other bead bounced on the lid (not an outlet) and falls; it has not reached the floor.
-    assert_eq!(sim.particles.id, vec![1]);
+    assert_eq!(sim.world.particles.id, vec![1]);
 }

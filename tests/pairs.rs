@@ -60,13 +60,13 @@ fn head_on_equal_drops_are_held_for_the_spring_time_then_released_at_eps_vn() {
     // During the hold both move at the centre-of-mass velocity (zero), in contact.
     let mut sim = drops(speed, true).simulation();
     sim.advance_to(e.time + 0.5 * e.contact_time);
-    assert_eq!(sim.particles.state[0], State::Held);
-    assert!(sim.particles.vel[0].length() < 1e-15 && sim.particles.vel[1].length() < 1e-15);
-    assert!(((sim.particles.pos[1] - sim.particles.pos[0]).length() - D).abs() < 1e-12);
+    assert_eq!(sim.world.particles.state[0], State::PairHeld);
+    assert!(sim.world.particles.vel[0].length() < 1e-15 && sim.world.particles.vel[1].length() < 1e-15);
+    assert!(((sim.world.particles.pos[1] - sim.world.particles.pos[0]).length() - D).abs() < 1e-12);
     // After the hold (released at the first step after t_c): ±ε Vn / 2, momentum zero.
     sim.advance_to(e.time + e.contact_time + 2e-4);
-    let (va, vb) = (sim.particles.vel[0], sim.particles.vel[1]);
-    assert_eq!(sim.particles.state[0], State::Free);
+    let (va, vb) = (sim.world.particles.vel[0], sim.world.particles.vel[1]);
+    assert_eq!(sim.world.particles.state[0], State::Free);
     assert!((va.x + 0.5 * e.eps * e.normal_speed).abs() < 1e-12, "va = {va}");
     assert!((va + vb).length() < 1e-15);
 }
@@ -78,7 +78,7 @@ fn instantaneous_pair_rebound_conserves_momentum_and_applies_eps() {
     assert_eq!(events.len(), 1);
     let e = events[0];
     assert_eq!(e.outcome, Outcome::Bounced);
-    let (va, vb) = (sim.particles.vel[0], sim.particles.vel[1]);
+    let (va, vb) = (sim.world.particles.vel[0], sim.world.particles.vel[1]);
     assert!((va + vb).length() < 1e-16);
     assert!((vb.x - va.x - e.eps * e.normal_speed).abs() < 1e-14);
 }
@@ -90,9 +90,9 @@ fn slow_pair_stays_in_contact_and_moves_at_the_common_velocity() {
     let events = common::run_collect(&mut sim, 2.0);
     assert_eq!(events.len(), 1);
     assert_eq!(events[0].outcome, Outcome::Deposited);
-    assert!(sim.particles.vel[0].length() < 1e-15);
-    assert!(((sim.particles.pos[1] - sim.particles.pos[0]).length() - D).abs() < 1e-12);
-    assert_eq!(sim.pair_contacts.len(), 1);
+    assert!(sim.world.particles.vel[0].length() < 1e-15);
+    assert!(((sim.world.particles.pos[1] - sim.world.particles.pos[0]).length() - D).abs() < 1e-12);
+    assert_eq!(sim.world.lasting.len(), 1);
 }
 
 #[test]
@@ -128,7 +128,7 @@ restitution_max = 0.9
         );
     }
     let mut sim = common::scene(&text).simulation();
-    let momentum = |s: &wetbounce::Simulation| s.particles.vel.iter().copied().sum::<DVec3>();
+    let momentum = |s: &wetbounce::Simulation| s.world.particles.vel.iter().copied().sum::<DVec3>();
     let before = momentum(&sim);
     // They meet around t = 0.5 s.
     let events = common::run_collect(&mut sim, 0.8);
@@ -136,9 +136,9 @@ restitution_max = 0.9
     let after = momentum(&sim);
     assert!((after - before).length() < 1e-12, "{before} → {after}");
     // No pair ends overlapping by more than 1e-9 of a diameter.
-    for i in 0..sim.particles.len() {
-        for j in i + 1..sim.particles.len() {
-            let gap = (sim.particles.pos[j] - sim.particles.pos[i]).length() - 3e-3;
+    for i in 0..sim.world.particles.len() {
+        for j in i + 1..sim.world.particles.len() {
+            let gap = (sim.world.particles.pos[j] - sim.world.particles.pos[i]).length() - 3e-3;
             assert!(gap > -3e-12, "{i}-{j} overlap {gap}");
         }
     }

@@ -42,15 +42,15 @@ fn drop_is_held_at_the_wall_for_the_contact_time() {
     let first = common::run_collect(&mut sim, 0.5)[0];
     let mut sim = scene.simulation();
     sim.advance_to(first.time + 0.5 * first.contact_time);
-    assert_eq!(sim.particles.state[0], State::Held);
-    assert_eq!(sim.particles.vel[0].length(), 0.0);
-    let held_at = sim.particles.pos[0];
+    assert_eq!(sim.world.particles.state[0], State::Held);
+    assert_eq!(sim.world.particles.vel[0].length(), 0.0);
+    let held_at = sim.world.particles.pos[0];
     sim.advance_to(first.time + 0.999 * first.contact_time);
-    assert_eq!(sim.particles.pos[0], held_at);
+    assert_eq!(sim.world.particles.pos[0], held_at);
     sim.advance_to(first.time + 1.001 * first.contact_time);
-    assert_eq!(sim.particles.state[0], State::Free);
+    assert_eq!(sim.world.particles.state[0], State::Free);
     // Released away from the wall (downwards) at ε V∞.
-    assert!(sim.particles.vel[0].z < 0.0);
+    assert!(sim.world.particles.vel[0].z < 0.0);
 }
 
 #[test]

@@ -37,6 +37,6 @@ seed = 11
     );
     assert_eq!(scene.particles.len(), 300);
     for x in &scene.particles.pos {
-        assert!(scene.walls[0].shape.gap(*x, 1e-3).gap >= 0.0, "bead at {x} overlaps the column");
+        assert!(scene.setup.walls[0].shape.gap(*x, 1e-3).gap >= 0.0, "bead at {x} overlaps the column");
     }
 }

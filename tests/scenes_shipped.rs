@@ -13,9 +13,9 @@ fn every_shipped_scene_loads_and_runs_briefly() {
         if path.extension().is_some_and(|e| e == "toml") {
             let scene = Scene::load(&path).unwrap_or_else(|e| panic!("{e}"));
             let mut sim = scene.simulation();
-            let t = 0.05f64.min(scene.duration).min(500.0 * scene.dt);
+            let t = 0.05f64.min(scene.duration).min(500.0 * scene.setup.dt);
             sim.advance_to(t);
-            assert!(sim.lost.is_empty(), "{}: lost {:?}", path.display(), sim.lost);
+            assert!(sim.record.lost.is_empty(), "{}: lost {:?}", path.display(), sim.record.lost);
             count += 1;
         }
     }
@@ -35,5 +35,5 @@ fn glass_bead_rebounds_with_falling_st_then_stays_on_the_floor() {
     assert_eq!(events.last().unwrap().outcome, wetbounce::Outcome::Deposited);
     assert!(events.iter().rev().skip(1).all(|e| e.outcome == wetbounce::Outcome::Bounced));
     // On the floor at the end, touching it.
-    assert!((sim.particles.pos[0].z - 1.25e-3).abs() < 1e-12);
+    assert!((sim.world.particles.pos[0].z - 1.25e-3).abs() < 1e-12);
 }

@@ -56,10 +56,10 @@ fn one_and_three_mm_bubbles_rise_hit_the_lid_and_come_to_rest_with_every_integra
             let mut sim = scene.simulation();
             let mut events = Vec::new();
             let mut top_speed: f64 = 0.0;
-            while sim.time < scene.duration {
-                let t = sim.time + 0.01;
+            while sim.world.time < scene.duration {
+                let t = sim.world.time + 0.01;
                 events.extend(common::run_collect(&mut sim, t));
-                let (x, v) = (sim.particles.pos[0], sim.particles.vel[0]);
+                let (x, v) = (sim.world.particles.pos[0], sim.world.particles.vel[0]);
                 assert!(x.is_finite() && v.is_finite(), "d = {d}, {integrator}: {x:?} {v:?}");
                 common::assert_clear_of_walls(&sim);
                 top_speed = top_speed.max(v.length());
@@ -69,7 +69,7 @@ fn one_and_three_mm_bubbles_rise_hit_the_lid_and_come_to_rest_with_every_integra
             // It rose at a finite terminal speed (tens of cm/s), not at the 1000 g an inertia
             // without added mass would give.
             assert!(top_speed > 0.05 && top_speed < 0.5, "d = {d}, {integrator}: top speed {top_speed}");
-            let p = &sim.particles;
+            let p = &sim.world.particles;
             assert_eq!(p.state[0], State::Resting, "d = {d}, {integrator}: {events:?}");
             assert!(p.vel[0].length() < 1e-12, "d = {d}, {integrator}: still moving at {:?}", p.vel[0]);
             assert!(

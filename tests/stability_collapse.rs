@@ -60,13 +60,17 @@ fn bead_with_vanishing_restitution_comes_to_rest_after_finitely_many_contacts() 
                 let events = common::run_collect(&mut sim, 1.0);
                 let what = format!("{name}, ε_max {eps_max}, dt {dt}");
                 common::assert_clear_of_walls(&sim);
-                assert_eq!(sim.particles.state[0], State::Resting, "{what}: {events:?}");
+                assert_eq!(sim.world.particles.state[0], State::Resting, "{what}: {events:?}");
                 assert!(
-                    (sim.particles.pos[0].z - 0.5 * D).abs() < 1e-15,
+                    (sim.world.particles.pos[0].z - 0.5 * D).abs() < 1e-15,
                     "{what}: z = {}",
-                    sim.particles.pos[0].z
+                    sim.world.particles.pos[0].z
                 );
-                assert!(sim.particles.vel[0].length() < 1e-12, "{what}: v = {:?}", sim.particles.vel[0]);
+                assert!(
+                    sim.world.particles.vel[0].length() < 1e-12,
+                    "{what}: v = {:?}",
+                    sim.world.particles.vel[0]
+                );
                 // The last contact is the deposit, and no contact after it: finitely many.
                 assert!(events.len() <= 80, "{what}: {} contacts", events.len());
                 assert_eq!(events.last().map(|e| e.outcome), Some(wetbounce::Outcome::Deposited), "{what}");
@@ -83,16 +87,16 @@ fn bead_resting_on_a_plane_box_or_mesh_floor_for_a_million_steps_drifts_less_tha
         let start = std::time::Instant::now();
         let mut sim = bead_on((998.2, 1.0e-3), 0.97, 1e-4, floor, 0.5 * D).simulation();
         // One step to settle (it starts touching, at rest: a contact at V∞ = 0, deposited).
-        sim.advance_to(sim.dt);
-        assert_eq!(sim.particles.state[0], State::Resting, "{name}");
-        let x0 = sim.particles.pos[0];
+        sim.advance_to(sim.setup.dt);
+        assert_eq!(sim.world.particles.state[0], State::Resting, "{name}");
+        let x0 = sim.world.particles.pos[0];
         for _ in 1..steps {
-            sim.step(sim.dt);
+            sim.step(sim.setup.dt);
         }
-        let drift = (sim.particles.pos[0] - x0).length();
+        let drift = (sim.world.particles.pos[0] - x0).length();
         println!("{name}: {steps} steps in {:.1} s, drift {drift:.3e} m", start.elapsed().as_secs_f64());
         assert!(drift < 1e-9, "{name}: drifted {drift:.3e} m in {steps} steps");
-        assert_eq!(sim.particles.state[0], State::Resting, "{name}");
+        assert_eq!(sim.world.particles.state[0], State::Resting, "{name}");
         common::assert_clear_of_walls(&sim);
     }
 }

@@ -56,18 +56,18 @@ restitution_max = {eps_max}
 fn run_checked(mut sim: wetbounce::Simulation, steps: usize, what: &str) -> usize {
     let mut contacts = 0;
     let speed2 =
-        |s: &wetbounce::Simulation| -> f64 { s.particles.vel.iter().map(|v| v.length_squared()).sum() };
+        |s: &wetbounce::Simulation| -> f64 { s.world.particles.vel.iter().map(|v| v.length_squared()).sum() };
     let mut before = speed2(&sim);
     for _ in 0..steps {
-        let t = sim.time + sim.dt;
+        let t = sim.world.time + sim.setup.dt;
         contacts += common::run_collect(&mut sim, t).len();
         common::assert_clear_of_walls(&sim);
-        assert!(sim.lost.is_empty(), "{what}: {:?}", sim.lost);
+        assert!(sim.record.lost.is_empty(), "{what}: {:?}", sim.record.lost);
         let after = speed2(&sim);
         assert!(
             after <= before * (1.0 + 1e-12),
             "{what}: t = {}: Σv² rose from {before} to {after}",
-            sim.time
+            sim.world.time
         );
         before = after;
     }
@@ -212,10 +212,10 @@ position = [0.002, 0.005, 0.005]
     );
     let mut sim = common::scene(&text).simulation();
     for _ in 0..100 {
-        let t = sim.time + sim.dt;
+        let t = sim.world.time + sim.setup.dt;
         common::run_collect(&mut sim, t);
         common::assert_clear_of_walls(&sim);
     }
-    let x = sim.particles.pos[0];
+    let x = sim.world.particles.pos[0];
     assert!((x - DVec3::splat(0.5 * D)).length() < 1e-12, "the bead should sit in the corner, at {x:?}");
 }

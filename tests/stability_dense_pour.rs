@@ -19,7 +19,7 @@ struct Speeds {
 }
 
 fn speeds(sim: &Simulation) -> Speeds {
-    let mut s: Vec<f64> = sim.particles.vel.iter().map(|v| v.length()).collect();
+    let mut s: Vec<f64> = sim.world.particles.vel.iter().map(|v| v.length()).collect();
     s.sort_by(f64::total_cmp);
     Speeds { mean: s.iter().sum::<f64>() / s.len() as f64, p99: s[s.len() * 99 / 100], max: s[s.len() - 1] }
 }
@@ -31,34 +31,34 @@ fn pour_checked(scene: &Scene, box_side: f64) -> (Simulation, usize, Vec<Speeds>
     let mut sim = scene.simulation();
     let mut pair_events = 0;
     let mut last = Vec::new();
-    while sim.time < scene.duration {
-        let t = (sim.time + 0.02).min(scene.duration);
+    while sim.world.time < scene.duration {
+        let t = (sim.world.time + 0.02).min(scene.duration);
         pair_events += common::run_collect(&mut sim, t)
             .iter()
             .filter(|e| matches!(e.other, wetbounce::Other::Particle(_)))
             .count();
-        let p = &sim.particles;
+        let p = &sim.world.particles;
         let inside = |c: f64| (0.5 * D * (1.0 - 1e-12)..=box_side - 0.5 * D * (1.0 - 1e-12)).contains(&c);
         for i in 0..p.len() {
             let x = p.pos[i];
             assert!(
                 x.z >= 0.5 * D * (1.0 - 1e-12),
                 "t = {}: bead {i} below the floor: z = {}",
-                sim.time,
+                sim.world.time,
                 x.z
             );
-            assert!(inside(x.x) && inside(x.y), "t = {}: bead {i} through a side wall: {x}", sim.time);
+            assert!(inside(x.x) && inside(x.y), "t = {}: bead {i} through a side wall: {x}", sim.world.time);
             for j in i + 1..p.len() {
                 let overlap = D - (p.pos[j] - x).length();
                 assert!(
                     overlap < 0.01 * D,
                     "t = {}: beads {i}, {j} overlap by {:.2e} d",
-                    sim.time,
+                    sim.world.time,
                     overlap / D
                 );
             }
         }
-        if sim.time > scene.duration - 0.1 - 1e-9 {
+        if sim.world.time > scene.duration - 0.1 - 1e-9 {
             last.push(speeds(&sim));
         }
     }
@@ -93,8 +93,8 @@ fn poured_beads_never_overlap_more_than_one_percent_or_leave_the_box_and_come_to
     let scene =
         Scene::load(Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/scenes/pour_200.toml")).unwrap();
     let (sim, pair_events, last) = pour_checked(&scene, 0.015);
-    assert!(sim.lost.is_empty());
-    assert_eq!(sim.particles.len(), 200);
+    assert!(sim.record.lost.is_empty());
+    assert_eq!(sim.world.particles.len(), 200);
     assert!(pair_events > 100, "{pair_events} pair contacts");
     assert_at_rest(&last);
 }
@@ -107,7 +107,7 @@ fn poured_beads_never_overlap_more_than_one_percent_or_leave_the_box_and_come_to
 fn settling_bed_of_2000_beads_ends_at_rest_without_overlap_or_bead_below_the_floor() {
     let scene = Scene::load(Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/settling_bed.toml")).unwrap();
     let (sim, _, last) = pour_checked(&scene, 0.04);
-    assert!(sim.lost.is_empty());
-    assert_eq!(sim.particles.len(), 2000);
+    assert!(sim.record.lost.is_empty());
+    assert_eq!(sim.world.particles.len(), 2000);
     assert_at_rest(&last);
 }

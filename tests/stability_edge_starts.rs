@@ -67,11 +67,11 @@ const FLOOR: &str =
 fn run(scene: &wetbounce::Scene, t_end: f64) -> (wetbounce::Simulation, Vec<wetbounce::ContactEvent>) {
     let mut sim = scene.simulation();
     let mut events = Vec::new();
-    while sim.time < t_end {
-        let t = (sim.time + 0.01).min(t_end);
+    while sim.world.time < t_end {
+        let t = (sim.world.time + 0.01).min(t_end);
         events.extend(common::run_collect(&mut sim, t));
         common::assert_clear_of_walls(&sim);
-        assert!(sim.lost.is_empty(), "{:?}", sim.lost);
+        assert!(sim.record.lost.is_empty(), "{:?}", sim.record.lost);
     }
     (sim, events)
 }
@@ -91,13 +91,17 @@ fn bead_starting_exactly_on_a_wall_at_rest_deposits_at_once_or_leaves_it() {
         let (sim, events) = run(&scene(WATER, FALLING, "", walls, &[(*x, DVec3::ZERO)]), 0.2);
         assert_eq!(events.len(), 1, "{walls}: {events:?}");
         assert_eq!((events[0].normal_speed, events[0].st, events[0].outcome), (0.0, 0.0, Outcome::Deposited));
-        assert_eq!(sim.particles.state[0], State::Resting);
-        assert!((sim.particles.pos[0] - *x).length() < 1e-15, "{walls}: moved to {:?}", sim.particles.pos[0]);
+        assert_eq!(sim.world.particles.state[0], State::Resting);
+        assert!(
+            (sim.world.particles.pos[0] - *x).length() < 1e-15,
+            "{walls}: moved to {:?}",
+            sim.world.particles.pos[0]
+        );
         // Pulled away (a bead lighter than the fluid: ρp < ρ in a denser fluid): no contact.
         let light = scene((5000.0, 1.0e-3), FALLING, "", walls, &[(*x, DVec3::ZERO)]);
         let (sim, events) = run(&light, 0.05);
         assert!(events.is_empty(), "{walls}: {events:?}");
-        assert!(sim.particles.pos[0].z > x.z, "{walls}: it should rise");
+        assert!(sim.world.particles.pos[0].z > x.z, "{walls}: it should rise");
     }
 }
 
@@ -115,7 +119,7 @@ fn two_beads_starting_exactly_in_contact_stay_finite_without_overlap_or_energy_g
     ];
     for particles in &cases {
         let (sim, _) = run(&scene(WATER, FALLING, "", FLOOR, particles), 0.3);
-        let p = &sim.particles;
+        let p = &sim.world.particles;
         assert_eq!(p.len(), 2);
         let gap = (p.pos[1] - p.pos[0]).length() - D;
         assert!(gap > -0.01 * D, "{particles:?}: they overlap by {:.3e} d", -gap / D);
@@ -154,8 +158,8 @@ fn contact_with_zero_normal_speed_deposits_with_st_0_in_water_and_in_vacuum() {
         let first = events.first().expect("a contact");
         assert_eq!((first.normal_speed, first.st, first.eps), (0.0, 0.0, 0.0), "{first:?}");
         assert_eq!(first.outcome, Outcome::Deposited);
-        assert_eq!(sim.particles.state[0], State::Resting);
-        assert_eq!(sim.particles.pos[0].z, R);
-        assert!(sim.particles.vel[0].x > 0.0, "it slides on: {:?}", sim.particles.vel[0]);
+        assert_eq!(sim.world.particles.state[0], State::Resting);
+        assert_eq!(sim.world.particles.pos[0].z, R);
+        assert!(sim.world.particles.vel[0].x > 0.0, "it slides on: {:?}", sim.world.particles.vel[0]);
     }
 }

@@ -53,13 +53,13 @@ fn column_for_a_million_steps_stays_finite_bounded_and_flat_in_memory() {
     );
     for k in 1..=steps {
         sim.step(dt);
-        contacts += sim.events.len() as u64;
-        for e in sim.events.drain(..) {
+        contacts += sim.record.events.len() as u64;
+        for e in sim.record.events.drain(..) {
             assert!(e.energy_not_gained(), "{e:?}");
         }
         if k % 10_000 == 0 || k == steps {
-            let p = &sim.particles;
-            assert!(sim.lost.is_empty(), "step {k}: non-finite state: {:?}", sim.lost);
+            let p = &sim.world.particles;
+            assert!(sim.record.lost.is_empty(), "step {k}: non-finite state: {:?}", sim.record.lost);
             let (mut ke, mut vmax) = (0.0f64, 0.0f64);
             for i in 0..p.len() {
                 assert!(p.pos[i].is_finite() && p.vel[i].is_finite());
@@ -76,7 +76,7 @@ fn column_for_a_million_steps_stays_finite_bounded_and_flat_in_memory() {
             max_n = max_n.max(p.len());
             println!(
                 "{k:>9} {:>9.1} {:>6} {:>12.4e} {:>10.4} {:>9.1} {:>8.1}",
-                sim.time,
+                sim.world.time,
                 p.len(),
                 ke,
                 vmax,
@@ -87,12 +87,12 @@ fn column_for_a_million_steps_stays_finite_bounded_and_flat_in_memory() {
         }
     }
     let rss_end = resident_bytes();
-    let removed: usize = sim.outlets.iter().map(|o| o.removed.len()).sum();
+    let removed: usize = sim.record.removed.iter().map(Vec::len).sum();
     println!(
         "{steps} steps, {:.1} s simulated, in {:.0} s: at most {max_n} drops, {} injected, {removed} left through the outlets, {contacts} contacts, none non-finite, fastest {max_speed_all:.4} m/s, resident memory {:.1} MB at step {} and {:.1} MB at the end",
-        sim.time,
+        sim.world.time,
         start.elapsed().as_secs_f64(),
-        sim.injectors.iter().map(|i| i.injected).sum::<u64>(),
+        sim.world.injection.iter().map(|i| i.injected).sum::<u64>(),
         rss_at_1e5 as f64 / 1e6,
         (steps / 10).div_ceil(10_000) * 10_000,
         rss_end as f64 / 1e6

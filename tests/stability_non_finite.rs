@@ -13,14 +13,14 @@ fn runaway_particle_is_removed_reported_and_the_run_continues() {
         wetbounce::Scene::load(std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join(RUNAWAY)).unwrap();
     let mut sim = scene.simulation();
     sim.advance_to(scene.duration);
-    assert_eq!(sim.lost.len(), 1, "{:?}", sim.lost);
-    assert_eq!(sim.lost[0].id, 1);
-    assert!(sim.lost[0].time <= 1.0, "removed at {}", sim.lost[0].time);
-    assert_eq!(sim.particles.len(), 2);
-    assert_eq!(sim.time, scene.duration);
+    assert_eq!(sim.record.lost.len(), 1, "{:?}", sim.record.lost);
+    assert_eq!(sim.record.lost[0].id, 1);
+    assert!(sim.record.lost[0].time <= 1.0, "removed at {}", sim.record.lost[0].time);
+    assert_eq!(sim.world.particles.len(), 2);
+    assert_eq!(sim.world.time, scene.duration);
     for i in 0..2 {
-        assert!(sim.particles.pos[i].is_finite() && sim.particles.vel[i].is_finite());
-        assert!(sim.particles.pos[i].z >= 1e-3 * (1.0 - 1e-9), "{:?}", sim.particles.pos[i]);
+        assert!(sim.world.particles.pos[i].is_finite() && sim.world.particles.vel[i].is_finite());
+        assert!(sim.world.particles.pos[i].z >= 1e-3 * (1.0 - 1e-9), "{:?}", sim.world.particles.pos[i]);
     }
 }
 

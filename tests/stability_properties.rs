@@ -253,10 +253,15 @@ fn check(c: &Case) -> Result<(), TestCaseError> {
     };
     let mut sim = scene.simulation();
     for _ in 0..STEPS {
-        let t = sim.time + sim.dt;
+        let t = sim.world.time + sim.setup.dt;
         sim.advance_to(t);
-        prop_assert!(sim.lost.is_empty(), "non-finite state at t = {}: {:?}\n{text}", sim.time, sim.lost);
-        let p = &sim.particles;
+        prop_assert!(
+            sim.record.lost.is_empty(),
+            "non-finite state at t = {}: {:?}\n{text}",
+            sim.world.time,
+            sim.record.lost
+        );
+        let p = &sim.world.particles;
         for i in 0..p.len() {
             prop_assert!(p.pos[i].is_finite() && p.vel[i].is_finite());
         }
@@ -264,11 +269,11 @@ fn check(c: &Case) -> Result<(), TestCaseError> {
         prop_assert!(
             g >= -1e-9,
             "t = {}: particle {i} inside the wall by {:.3e} radii at {:?}\n{text}",
-            sim.time,
+            sim.world.time,
             -g,
-            sim.particles.pos[i]
+            sim.world.particles.pos[i]
         );
-        for e in sim.events.drain(..) {
+        for e in sim.record.events.drain(..) {
             prop_assert!(e.energy_not_gained(), "energy gained at {e:?}\n{text}");
         }
     }
@@ -320,9 +325,9 @@ fn regressions_found_by_the_long_run_stay_finite_and_outside_the_walls() {
             .unwrap_or_else(|e| panic!("{e}"));
         let mut sim = scene.simulation();
         for _ in 0..STEPS {
-            let t = sim.time + sim.dt;
+            let t = sim.world.time + sim.setup.dt;
             common::run_collect(&mut sim, t);
-            assert!(sim.lost.is_empty(), "{name}: {:?}", sim.lost);
+            assert!(sim.record.lost.is_empty(), "{name}: {:?}", sim.record.lost);
             common::assert_clear_of_walls(&sim);
         }
     }

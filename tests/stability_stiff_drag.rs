@@ -71,7 +71,7 @@ fn exponential_reaches_terminal_velocity_to_1e6_with_steps_three_times_tau() {
     common::run_collect(&mut sim, 0.05);
     for (i, d) in ds.iter().enumerate() {
         let vt = terminal_velocity(RHO_P, RHO, *d, MU, G, drag_factor_schiller_naumann).speed;
-        let v = sim.particles.vel[i];
+        let v = sim.world.particles.vel[i];
         let err = (v.z + vt).abs() / vt + v.truncate().length() / vt;
         assert!(err < 1e-6, "d = {d}: v = {v:?}, V_t = {vt}, relative error {err:.2e}");
     }
@@ -103,14 +103,14 @@ fn explicit_integrators_converge_just_below_the_limit_and_diverge_just_above_it(
         let scene = common::scene(&droplets(integrator, 0.97 * limit, &[1e-5]));
         let mut sim = scene.simulation();
         common::run_collect(&mut sim, 2000.0 * limit);
-        let v = sim.particles.vel[0];
+        let v = sim.world.particles.vel[0];
         assert!((v.z + vt).abs() < 1e-6 * vt, "{integrator} at 0.97 of the limit: v = {v:?}, V_t = {vt}");
         // Just above (the check bypassed by changing dt after loading): it diverges, and the
         // particle is taken out when its state is no longer finite — the check is not idle.
         let mut sim = scene.simulation();
-        sim.dt = 1.05 * limit;
+        sim.setup.dt = 1.05 * limit;
         common::run_collect(&mut sim, 20_000.0 * limit);
-        let grew = sim.particles.is_empty() || sim.particles.vel[0].length() > 10.0 * vt;
-        assert!(grew, "{integrator} at 1.05 of the limit did not diverge: {:?}", sim.particles.vel);
+        let grew = sim.world.particles.is_empty() || sim.world.particles.vel[0].length() > 10.0 * vt;
+        assert!(grew, "{integrator} at 1.05 of the limit did not diverge: {:?}", sim.world.particles.vel);
     }
 }

@@ -74,9 +74,9 @@ fn bead_at_10_m_s_with_10_ms_steps_never_passes_through_a_plate_thinner_than_its
             let mut sim = scene(wall, 1e-2, v).simulation();
             let events = common::run_collect(&mut sim, 0.1);
             assert!(
-                sim.particles.pos[0].z >= R * (1.0 - 1e-9),
+                sim.world.particles.pos[0].z >= R * (1.0 - 1e-9),
                 "{name}, {angle}°: passed through, z = {}",
-                sim.particles.pos[0].z
+                sim.world.particles.pos[0].z
             );
             assert!(events.iter().any(|e| e.other == Other::Wall(0)), "{name}, {angle}°: no impact");
         }
@@ -90,8 +90,8 @@ fn hundred_thousand_random_fast_impacts_on_thin_walls_give_zero_crossings() {
     let (mut impacts, mut crossings) = (0usize, 0usize);
     for (name, wall, half) in WALLS {
         let mut sim = scene(wall, 1e-2, DVec3::ZERO).simulation();
-        sim.pair_collisions = false;
-        let p = &mut sim.particles;
+        sim.setup.pair_collisions = false;
+        let p = &mut sim.world.particles;
         *p = Default::default();
         for id in 0..per_wall {
             let speed = 10f64.powf(rng.random_range(0.0..2.0));
@@ -112,9 +112,11 @@ fn hundred_thousand_random_fast_impacts_on_thin_walls_give_zero_crossings() {
         assert!(above.iter().all(|&a| a), "{name}: every bead starts above the plate");
         let events = common::run_collect(&mut sim, 0.05);
         let hits = events.iter().filter(|e| e.other == Other::Wall(0)).count();
-        let crossed = (0..sim.particles.len()).filter(|&i| sim.particles.pos[i].z < R * (1.0 - 1e-9)).count();
-        assert!(sim.lost.is_empty(), "{name}: {:?}", sim.lost);
-        assert_eq!(sim.particles.len(), per_wall);
+        let crossed = (0..sim.world.particles.len())
+            .filter(|&i| sim.world.particles.pos[i].z < R * (1.0 - 1e-9))
+            .count();
+        assert!(sim.record.lost.is_empty(), "{name}: {:?}", sim.record.lost);
+        assert_eq!(sim.world.particles.len(), per_wall);
         assert!(hits >= per_wall, "{name}: {hits} impacts for {per_wall} beads");
         impacts += hits;
         crossings += crossed;

@@ -88,7 +88,7 @@ spacing = {spacing}
         sim.step(8.77e-6);
     }
     let bytes = LIVE.load(Ordering::Relaxed).saturating_sub(before);
-    let count = sim.particles.len();
+    let count = sim.world.particles.len();
     println!(
         "N = {count}: {:.1} MB of engine state, {:.1} bytes per particle",
         bytes as f64 / 1e6,

@@ -102,19 +102,19 @@ fn main() {
             for threads in [1, 2] {
                 let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build().expect("threads");
                 let mut sim = base.simulation();
-                sim.pair_collisions = case != "paper-no-pairs";
-                let count = sim.particles.len();
+                sim.setup.pair_collisions = case != "paper-no-pairs";
+                let count = sim.world.particles.len();
                 // At least 200 steps (20 ms): enough for the Verlet list to be rebuilt in `pairs5`.
                 let steps = std::env::var("SCALING_STEPS")
                     .ok()
                     .and_then(|s| s.parse().ok())
                     .unwrap_or((20_000_000 / count).clamp(200, 2_000));
                 // One warm-up step builds the neighbour list and the scratch columns.
-                pool.install(|| sim.step(base.dt));
-                sim.stage_times = Default::default();
-                let builds = sim.neighbours.builds;
+                pool.install(|| sim.step(base.setup.dt));
+                sim.record.stage_times = Default::default();
+                let builds = sim.world.neighbours.builds;
                 let start = Instant::now();
-                pool.install(|| sim.run_steps(steps, base.dt));
+                pool.install(|| sim.run_steps(steps, base.setup.dt));
                 let wall = start.elapsed().as_secs_f64();
                 let row = writeln!(
                     out,
@@ -129,9 +129,9 @@ fn main() {
                 // Where the time went, on standard error (the CSV stays plain).
                 eprintln!(
                     "{case} n={count} threads={threads}: {:?}, {} neighbour-list builds, {} lasting contacts",
-                    sim.stage_times,
-                    sim.neighbours.builds - builds,
-                    sim.pair_contacts.len()
+                    sim.record.stage_times,
+                    sim.world.neighbours.builds - builds,
+                    sim.world.lasting.len()
                 );
             }
         }

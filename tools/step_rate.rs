@@ -26,18 +26,18 @@ fn main() {
             })
         })
     };
-    let steps = parse(1, "STEPS").unwrap_or(((scene.duration / scene.dt).round() as usize).min(20_000));
+    let steps = parse(1, "STEPS").unwrap_or(((scene.duration / scene.setup.dt).round() as usize).min(20_000));
     let mut pool = rayon::ThreadPoolBuilder::new();
     if let Some(threads) = parse(2, "THREADS") {
         pool = pool.num_threads(threads.max(1));
     }
     let pool = pool.build().expect("thread pool");
     let mut sim = scene.simulation();
-    let n = sim.particles.len();
+    let n = sim.world.particles.len();
     let start = Instant::now();
     // The whole run inside the pool, as `Simulation::advance_to` does: the serial stages then
     // run on a worker instead of a third thread competing with the spinning workers.
-    pool.install(|| sim.run_steps(steps, scene.dt));
+    pool.install(|| sim.run_steps(steps, scene.setup.dt));
     let wall = start.elapsed().as_secs_f64();
     // One write, whose error is ignored: a reader that stops after the first line (`| head -1`)
     // closes the pipe, and `println!` would panic on the second.
@@ -46,6 +46,6 @@ fn main() {
         "{path} N={n} steps={steps} threads={} wall_s={wall:.3} particle_steps_per_s={:.4e}\nstages: {:?}",
         pool.current_num_threads(),
         n as f64 * steps as f64 / wall,
-        sim.stage_times
+        sim.record.stage_times
     );
 }

@@ -1,7 +1,7 @@
 //! Drag factor and Reynolds number.
 
-use super::FixedPower;
-use crate::lanes::Real;
+use crate::numeric::FixedPower;
+use crate::numeric::lanes::Real;
 
 /// Particle Reynolds number `Re = ρ |w| d / μ` (dimensionless).
 ///
@@ -37,7 +37,7 @@ pub fn drag_factor_schiller_naumann(re: f64) -> f64 {
 
 /// [`drag_factor_schiller_naumann`] of `Re²` (dimensionless), without its square root:
 /// `1 + 0.15 (Re²)^0.3435`, and the Newton branch above `Re² = 10⁶`. Of one particle (`f64`) or
-/// of a lane group ([`crate::lanes::F64x4`]): a group all below the Newton branch takes the
+/// of a lane group ([`crate::numeric::lanes::F64x4`]): a group all below the Newton branch takes the
 /// power in lanes, any other goes lane by lane.
 #[inline(always)]
 pub fn drag_factor_schiller_naumann_of_squared<R: Real>(re2: R) -> R {

@@ -8,7 +8,6 @@
 mod contact_time;
 mod drag;
 mod drag_stiffness;
-mod power;
 mod restitution;
 mod stokes;
 mod terminal;
@@ -19,7 +18,6 @@ pub use contact_time::{
 };
 pub use drag::{drag_factor_schiller_naumann, drag_factor_schiller_naumann_of_squared, reynolds_number};
 pub use drag_stiffness::schiller_naumann_stiffness_factor;
-pub use power::FixedPower;
 pub use restitution::{Restitution, restitution};
 pub use stokes::{pair_stokes_number, relaxation_time, stokes_number};
 pub use terminal::{TerminalVelocity, terminal_velocity};

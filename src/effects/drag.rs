@@ -5,7 +5,7 @@ use crate::correlations::{
     drag_factor_schiller_naumann, drag_factor_schiller_naumann_of_squared, schiller_naumann_stiffness_factor,
 };
 use crate::fluid::Fluid;
-use crate::lanes::Real;
+use crate::numeric::lanes::Real;
 use crate::particles::ParticleKind;
 use serde::Deserialize;
 
@@ -67,7 +67,7 @@ pub trait DragLaw: Copy + Send + Sync + 'static {
     /// False only for [`NoDrag`]: the drag term is then left out entirely.
     const ACTIVE: bool;
     /// Whether free flight under this law is faster by lane groups of four particles
-    /// ([`crate::lanes`]) than one by one *without AVX2* (with AVX2 lane groups pay for every
+    /// ([`crate::numeric::lanes`]) than one by one *without AVX2* (with AVX2 lane groups pay for every
     /// law and are always used). Measured with SSE2 only on the peer's beads
     /// (`tools/step_rate`, 1 thread): with Schiller–Naumann's power, lane groups are 1.1–1.7×
     /// faster (Euler to RK2); with linear (Stokes) drag, the few operations per particle do not

@@ -1,7 +1,7 @@
 //! Forward Euler.
 
 use super::{ForceField, Scheme};
-use crate::lanes::Vector;
+use crate::numeric::lanes::Vector;
 
 /// Forward (explicit) Euler: `x' = x + h v`, `v' = v + h a(x, v)`. Order 1; stable only for
 /// `h < 2τ`. Offered for the accuracy study, not for production runs.

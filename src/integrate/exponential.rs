@@ -1,7 +1,7 @@
 //! Exponential integrator: the linear drag part is integrated exactly.
 
 use super::{ForceField, Linear, Scheme};
-use crate::lanes::{Real, Vector};
+use crate::numeric::lanes::{Real, Vector};
 
 /// Exponential midpoint scheme. With the coefficients of [`Linear`] frozen, the equation
 /// `dv/dt = a + λ(u − v)` has the exact solution (`z = −λh`)

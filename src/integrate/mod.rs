@@ -17,14 +17,14 @@ pub use rk4::Rk4;
 
 use crate::effects::DragLaw;
 use crate::fluid::FlowField;
-use crate::lanes::{Real, Vector};
+use crate::numeric::lanes::{Real, Vector};
 use glam::DVec3;
 use serde::Deserialize;
 use std::marker::PhantomData;
 
 /// A particle's acceleration at one state, linearised in its velocity `v`:
 /// `a = explicit + inv_tau (u − v)` (OpenFOAM's `forceSuSp` idea, ARCHITECTURE.md rule 2).
-/// Of one particle (`V = DVec3`) or of a lane group of four ([`crate::lanes::DVec3x4`]).
+/// Of one particle (`V = DVec3`) or of a lane group of four ([`crate::numeric::lanes::DVec3x4`]).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Linear<V: Vector = DVec3> {
     /// Acceleration that does not depend on `v` (m/s²).
@@ -159,7 +159,7 @@ mod tests {
     use super::*;
     use crate::effects::{NoDrag, SchillerNaumann, Stokes};
     use crate::fluid::{Poiseuille, Quiescent, Uniform};
-    use crate::lanes::{DVec3x4, F64x4, LANES};
+    use crate::numeric::lanes::{DVec3x4, F64x4, LANES};
 
     /// Stokes settling from rest in a uniform flow: the closed form of PHYSICS.md §1.
     fn stokes_case() -> (ParticleForce<Stokes, Uniform>, impl Fn(f64) -> (DVec3, DVec3)) {

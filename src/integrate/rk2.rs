@@ -1,7 +1,7 @@
 //! Heun's second-order Runge–Kutta method, L06's integrator.
 
 use super::{ForceField, Scheme};
-use crate::lanes::Vector;
+use crate::numeric::lanes::Vector;
 
 /// Heun's method (the explicit trapezoidal rule), the two-stage Runge–Kutta scheme with
 /// tableau `c = (0, 1)`, `b = (1/2, 1/2)`:

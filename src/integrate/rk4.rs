@@ -1,7 +1,7 @@
 //! The classical fourth-order Runge–Kutta method.
 
 use super::{ForceField, Scheme};
-use crate::lanes::Vector;
+use crate::numeric::lanes::Vector;
 
 /// Classical RK4 on `y = (x, v)`, `y' = (v, a(x, v))`. Order 4; explicit, so stable only for
 /// `h` below about 2.8 τ.

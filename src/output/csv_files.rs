@@ -1,7 +1,8 @@
 //! The CSV sinks.
 
 use super::{OutputError, Sink};
-use crate::pipeline::{ContactEvent, LostParticle, Other, Simulation};
+use crate::contact::ContactEvent;
+use crate::pipeline::{LostParticle, Simulation};
 use std::fs::File;
 use std::io::BufWriter;
 use std::path::{Path, PathBuf};
@@ -32,11 +33,11 @@ impl TrajectoryCsv {
 
 impl Sink for TrajectoryCsv {
     fn frame(&mut self, sim: &Simulation) -> Result<(), OutputError> {
-        let p = &sim.particles;
+        let p = &sim.world.particles;
         for i in 0..p.len() {
             let (x, v) = (p.pos[i], p.vel[i]);
             self.w
-                .serialize((sim.time, p.id[i], x.x, x.y, x.z, v.x, v.y, v.z, p.state[i].name()))
+                .serialize((sim.world.time, p.id[i], x.x, x.y, x.z, v.x, v.y, v.z, p.state[i].name()))
                 .map_err(|e| OutputError::new(&self.path, e))?;
         }
         Ok(())
@@ -66,10 +67,7 @@ impl EventCsv {
 impl Sink for EventCsv {
     fn events(&mut self, sim: &Simulation, events: &[ContactEvent]) -> Result<(), OutputError> {
         for e in events {
-            let (other, kind) = match e.other {
-                Other::Wall(w) => (sim.walls[w as usize].name.clone(), "wall"),
-                Other::Particle(id) => (id.to_string(), "particle"),
-            };
+            let (other, kind) = sim.setup.name_of(e.other);
             self.w
                 .serialize((
                     e.time,

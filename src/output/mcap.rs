@@ -14,7 +14,8 @@
 
 use super::geometry::{self, Solid, WALL_COLOR};
 use super::{OutputError, Sink};
-use crate::pipeline::{ContactEvent, LostParticle, Other, Simulation};
+use crate::contact::ContactEvent;
+use crate::pipeline::{LostParticle, Simulation};
 use foxglove::messages::packed_element_field::NumericType;
 use foxglove::messages::{
     Color, CubePrimitive, CylinderPrimitive, PackedElementField, Point3, PointCloud, Pose, Quaternion,
@@ -175,7 +176,7 @@ impl McapSink {
 
     fn write_walls(&mut self, sim: &Simulation) {
         let mut entity = SceneEntity {
-            timestamp: Some(stamp(sim.time)),
+            timestamp: Some(stamp(sim.world.time)),
             frame_id: FRAME_ID.into(),
             id: "walls".into(),
             frame_locked: true,
@@ -208,12 +209,12 @@ impl McapSink {
         }
         self.scene.log_with_time(
             &SceneUpdate { deletions: Vec::new(), entities: vec![entity] },
-            log_time_ns(sim.time),
+            log_time_ns(sim.world.time),
         );
     }
 
     fn write_points(&self, sim: &Simulation) {
-        let p = &sim.particles;
+        let p = &sim.world.particles;
         let mut data = Vec::with_capacity(p.len() * POINT_STRIDE as usize);
         for i in 0..p.len() {
             let x = p.pos[i];
@@ -223,11 +224,11 @@ impl McapSink {
             data.extend_from_slice(&p.id[i].to_le_bytes());
             data.extend_from_slice(&p.diameter[i].to_le_bytes());
             data.extend_from_slice(&p.vel[i].length().to_le_bytes());
-            data.push(p.state[i] as u8);
+            data.push(p.state[i].code());
             data.extend_from_slice(&p.kind[i].to_le_bytes());
         }
         let cloud = PointCloud {
-            timestamp: Some(stamp(sim.time)),
+            timestamp: Some(stamp(sim.world.time)),
             frame_id: FRAME_ID.into(),
             pose: Some(pose(DVec3::ZERO, DQuat::IDENTITY)),
             point_stride: POINT_STRIDE,
@@ -243,17 +244,17 @@ impl McapSink {
             ],
             data: data.into(),
         };
-        self.particles.log_with_time(&cloud, log_time_ns(sim.time));
+        self.particles.log_with_time(&cloud, log_time_ns(sim.world.time));
     }
 
     fn write_spheres(&mut self, sim: &Simulation) {
-        let p = &sim.particles;
+        let p = &sim.world.particles;
         let show = p.len() <= self.options.max_spheres;
         if !show && !self.spheres_shown {
             return;
         }
         let mut entity = SceneEntity {
-            timestamp: Some(stamp(sim.time)),
+            timestamp: Some(stamp(sim.world.time)),
             frame_id: FRAME_ID.into(),
             id: "particles".into(),
             frame_locked: true,
@@ -272,7 +273,7 @@ impl McapSink {
         self.spheres_shown = show;
         self.scene.log_with_time(
             &SceneUpdate { deletions: Vec::new(), entities: vec![entity] },
-            log_time_ns(sim.time),
+            log_time_ns(sim.world.time),
         );
     }
 }
@@ -314,10 +315,7 @@ impl Sink for McapSink {
         self.order.sort_by(|&a, &b| events[a].time.total_cmp(&events[b].time));
         for &k in &self.order {
             let e = &events[k];
-            let (other, kind) = match e.other {
-                Other::Wall(w) => (sim.walls[w as usize].name.clone(), "wall"),
-                Other::Particle(id) => (id.to_string(), "particle"),
-            };
+            let (other, kind) = sim.setup.name_of(e.other);
             let message = EventMessage {
                 t: number(e.time),
                 id: e.id,

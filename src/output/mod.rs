@@ -26,7 +26,8 @@ pub use rerun::RerunSink;
 pub use statistics::Statistics;
 pub use summary::RunSummary;
 
-use crate::pipeline::{ContactEvent, LostParticle, Simulation};
+use crate::contact::ContactEvent;
+use crate::pipeline::{LostParticle, Simulation};
 use std::path::PathBuf;
 
 /// A failure to write an output file.

@@ -66,10 +66,10 @@ fn ticks(t: f64) -> u64 {
 
 impl Sink for Progress {
     fn step(&mut self, sim: &Simulation) -> Result<(), OutputError> {
-        self.steps.store(sim.steps, Ordering::Relaxed);
-        self.alive.store(sim.particles.len() as u64, Ordering::Relaxed);
+        self.steps.store(sim.world.steps, Ordering::Relaxed);
+        self.alive.store(sim.world.particles.len() as u64, Ordering::Relaxed);
         // indicatif redraws at most ~20 times a second, so this is cheap per step.
-        self.bar.set_position(ticks(sim.time));
+        self.bar.set_position(ticks(sim.world.time));
         Ok(())
     }
 

@@ -9,7 +9,8 @@
 
 use super::geometry::{self, Solid, WALL_COLOR};
 use super::{OutputError, Sink};
-use crate::pipeline::{ContactEvent, LostParticle, Other, Simulation};
+use crate::contact::ContactEvent;
+use crate::pipeline::{LostParticle, Simulation};
 use glam::{DQuat, DVec3};
 use std::path::PathBuf;
 
@@ -101,8 +102,8 @@ impl Sink for RerunSink {
             self.write_walls(sim)?;
             self.walls_written = true;
         }
-        let p = &sim.particles;
-        self.rec()?.set_duration_secs(TIMELINE, sim.time);
+        let p = &sim.world.particles;
+        self.rec()?.set_duration_secs(TIMELINE, sim.world.time);
         self.log(
             "particles",
             &rerun::Points3D::new(p.pos.iter().map(|x| f3(*x)))
@@ -115,10 +116,7 @@ impl Sink for RerunSink {
 
     fn events(&mut self, sim: &Simulation, events: &[ContactEvent]) -> Result<(), OutputError> {
         for e in events {
-            let (other, kind) = match e.other {
-                Other::Wall(w) => (sim.walls[w as usize].name.clone(), "wall"),
-                Other::Particle(id) => (id.to_string(), "particle"),
-            };
+            let (other, kind) = sim.setup.name_of(e.other);
             self.rec()?.set_duration_secs(TIMELINE, e.time);
             let text = format!(
                 "particle {} {} on {kind} {other}: V∞ = {:.6} m/s, St = {:.3}, ε = {:.3}, t_c = {:.6} s",
@@ -132,7 +130,7 @@ impl Sink for RerunSink {
             self.log("events", &rerun::TextLog::new(text).with_level(rerun::TextLogLevel::INFO))?;
         }
         // Frames come back to the frame time; events must not move it.
-        self.rec()?.set_duration_secs(TIMELINE, sim.time);
+        self.rec()?.set_duration_secs(TIMELINE, sim.world.time);
         Ok(())
     }
 
@@ -142,7 +140,7 @@ impl Sink for RerunSink {
             let text = format!("particle {} removed: its state became non-finite", l.id);
             self.log("events", &rerun::TextLog::new(text).with_level(rerun::TextLogLevel::INFO))?;
         }
-        self.rec()?.set_duration_secs(TIMELINE, sim.time);
+        self.rec()?.set_duration_secs(TIMELINE, sim.world.time);
         Ok(())
     }
 

@@ -2,7 +2,8 @@
 //! wall, residence times per outlet, injections per injector.
 
 use super::{OutputError, Sink};
-use crate::pipeline::{ContactEvent, Other, Outcome, Simulation};
+use crate::contact::{ContactEvent, Other, Outcome};
+use crate::pipeline::Simulation;
 use std::fmt;
 
 /// Counts and means over all contact events of a run, in total and per wall.

@@ -4,7 +4,7 @@ use super::Statistics;
 use super::statistics::{Distribution, ImpactTally};
 use crate::particles::State;
 use crate::pipeline::Simulation;
-use crate::pipeline::run::RunReport;
+use crate::run::RunReport;
 use std::fmt;
 
 /// What a run did, for the end-of-run table: steps and wall time, impacts per outcome, mean St
@@ -48,34 +48,44 @@ pub struct RunSummary {
 impl RunSummary {
     /// The summary of a run that ended with `sim` in this state.
     pub fn new(sim: &Simulation, report: &RunReport, stats: &Statistics) -> Self {
-        let count = |s: State| sim.particles.state.iter().filter(|&&x| x == s).count();
+        let count = |s: State| sim.world.particles.state.iter().filter(|&&x| x.code() == s.code()).count();
         RunSummary {
             time: report.time,
             steps: report.steps,
             wall_time_s: report.wall_time.as_secs_f64(),
             interrupted: report.interrupted,
             stats: stats.clone(),
-            alive: sim.particles.len(),
+            alive: sim.world.particles.len(),
             free: count(State::Free),
             held: count(State::Held),
             resting: count(State::Resting),
-            lost: sim.lost.len(),
-            removed_by_outlets: sim.outlets.iter().map(|o| o.removed.len()).sum(),
-            injected: sim.injectors.iter().map(|i| i.injected).sum(),
-            injection_skipped: sim.injectors.iter().map(|i| i.skipped).sum(),
-            walls: sim.walls.iter().enumerate().map(|(w, wall)| (wall.name.clone(), stats.wall(w))).collect(),
+            lost: sim.record.lost.len(),
+            removed_by_outlets: sim.record.removed.iter().map(Vec::len).sum(),
+            injected: sim.world.injection.iter().map(|i| i.injected).sum(),
+            injection_skipped: sim.world.injection.iter().map(|i| i.skipped).sum(),
+            walls: sim
+                .setup
+                .walls
+                .iter()
+                .enumerate()
+                .map(|(w, wall)| (wall.name.clone(), stats.wall(w)))
+                .collect(),
             outlets: sim
+                .setup
                 .outlets
                 .iter()
-                .map(|o| {
-                    let times: Vec<f64> = o.removed.iter().map(|r| r.residence_time).collect();
+                .zip(&sim.record.removed)
+                .map(|(o, removed)| {
+                    let times: Vec<f64> = removed.iter().map(|r| r.residence_time).collect();
                     (o.name.clone(), Distribution::of(&times))
                 })
                 .collect(),
             injectors: sim
+                .setup
                 .injectors
                 .iter()
-                .map(|i| (i.name.clone(), [i.due, i.injected, i.skipped]))
+                .zip(&sim.world.injection)
+                .map(|(i, s)| (i.name.clone(), [s.due, s.injected, s.skipped]))
                 .collect(),
         }
     }

@@ -1,28 +1,30 @@
 //! Stage 6: the step's results replace the old state; non-finite particles are taken out.
 
-use super::{LostParticle, Scratch};
-use crate::particles::{NO_WALL, PairContact, Particles, State};
+use crate::contact::LastingContact;
+use crate::contact::lasting::remove_particles;
+use crate::particles::{Next, Particles};
 
-/// Swaps the scratch columns in, clears the wall of the particles that slid off it (`fell`)
-/// and, when an earlier stage saw a non-finite value (`suspect`), removes every particle whose
-/// position or velocity is no longer finite, recording it in `lost`. Returns true when
-/// particles were removed (indices changed).
+/// A particle whose state became non-finite and was taken out of the simulation.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct LostParticle {
+    /// Simulated time at the end of the step where it was found (s).
+    pub time: f64,
+    /// Its id.
+    pub id: u32,
+}
+
+/// Swaps `next` into `p` ([`Particles::commit`]) and, when an earlier stage saw a non-finite
+/// value (`suspect`), removes every particle whose position or velocity is no longer finite,
+/// recording it in `lost` at `t1`. Returns true when particles were removed (indices changed).
 pub(crate) fn run(
     p: &mut Particles,
-    scratch: &mut Scratch,
-    (fell, suspect): (&[u32], bool),
+    next: &mut Next,
+    suspect: bool,
     t1: f64,
     lost: &mut Vec<LostParticle>,
-    contacts: &mut Vec<PairContact>,
+    lasting: &mut Vec<LastingContact>,
 ) -> bool {
-    std::mem::swap(&mut p.pos, &mut scratch.next_pos);
-    std::mem::swap(&mut p.vel, &mut scratch.next_vel);
-    std::mem::swap(&mut p.state, &mut scratch.next_state);
-    for &i in fell {
-        if p.state[i as usize] == State::Free {
-            p.wall[i as usize] = NO_WALL;
-        }
-    }
+    p.commit(next);
     if !suspect {
         return false;
     }
@@ -33,25 +35,6 @@ pub(crate) fn run(
     for i in (0..p.len()).filter(|&i| !keep[i]) {
         lost.push(LostParticle { time: t1, id: p.id[i] });
     }
-    remove(p, &keep, contacts);
+    remove_particles(p, &keep, lasting);
     true
-}
-
-/// Keeps the particles with `keep[i]`, in order, and renumbers the pair contacts (dropping
-/// those of removed particles).
-pub(crate) fn remove(p: &mut Particles, keep: &[bool], contacts: &mut Vec<PairContact>) {
-    let mut new_index = vec![u32::MAX; keep.len()];
-    let mut n = 0;
-    for (i, &k) in keep.iter().enumerate() {
-        if k {
-            new_index[i] = n;
-            n += 1;
-        }
-    }
-    p.retain(keep);
-    contacts.retain_mut(|c| {
-        let (a, b) = (new_index[c.a as usize], new_index[c.b as usize]);
-        (c.a, c.b) = (a, b);
-        a != u32::MAX && b != u32::MAX
-    });
 }

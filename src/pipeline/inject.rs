@@ -1,4 +1,4 @@
-//! Stage 6 (inflow): injectors add particles at a steady rate, in a region, with drawn sizes.
+//! Stage 7 (inflow): injectors add particles at a steady rate, in a region, with drawn sizes.
 //!
 //! Injection runs on one thread, in injector order, each injector with its own seeded ChaCha8
 //! generator, so the particles it adds (and their ids) do not depend on the thread count.
@@ -168,6 +168,14 @@ pub struct Injector {
     pub start: f64,
     /// No injection at or after this time (s); may be +∞.
     pub stop: f64,
+    /// Seed of its random draws (positions and sizes).
+    pub seed: u64,
+}
+
+/// What an injector has done so far, and its random generator (part of the world: it changes
+/// as the simulation runs).
+#[derive(Debug, Clone)]
+pub struct InjectorState {
     /// Particles due so far (injected or skipped).
     pub due: u64,
     /// Particles injected so far.
@@ -178,33 +186,10 @@ pub struct Injector {
 }
 
 impl Injector {
-    /// An injector that has injected nothing yet, drawing from a generator seeded with `seed`.
-    #[allow(clippy::too_many_arguments)]
-    pub fn new(
-        name: String,
-        kind: u16,
-        rate: f64,
-        region: Region,
-        diameter: SizeDistribution,
-        velocity: DVec3,
-        start: f64,
-        stop: f64,
-        seed: u64,
-    ) -> Self {
-        Injector {
-            name,
-            kind,
-            rate,
-            region,
-            diameter,
-            velocity,
-            start,
-            stop,
-            due: 0,
-            injected: 0,
-            skipped: 0,
-            rng: ChaCha8Rng::seed_from_u64(seed),
-        }
+    /// The state of this injector before it has injected anything: a generator seeded with
+    /// its seed.
+    pub fn start(&self) -> InjectorState {
+        InjectorState { due: 0, injected: 0, skipped: 0, rng: ChaCha8Rng::seed_from_u64(self.seed) }
     }
 
     /// Particles due by time `t`: the k-th (k = 0, 1, …) is due at `start + k/rate`, if that is
@@ -217,19 +202,20 @@ impl Injector {
 
 /// Adds the particles due in the step `(t0, t1]`, placed at `t1` (born then), with new ids
 /// from `next_id`. A particle overlapping a wall or another particle is redrawn (position and
-/// size) up to [`MAX_ATTEMPTS`] times, then skipped and counted. Returns true when particles
-/// were added (indices changed).
+/// size) up to [`MAX_ATTEMPTS`] times, then skipped and counted in `states`. Returns true
+/// when particles were added (indices changed).
 pub(crate) fn run(
-    injectors: &mut [Injector],
+    injectors: &[Injector],
+    states: &mut [InjectorState],
     walls: &[Wall],
     p: &mut Particles,
     next_id: &mut u32,
     t1: f64,
 ) -> bool {
     let mut added = false;
-    for inj in injectors.iter_mut() {
+    for (inj, state) in injectors.iter().zip(states.iter_mut()) {
         let target = inj.due_by(t1);
-        if target <= inj.due {
+        if target <= state.due {
             continue;
         }
         // Only particles near the region can be in the way: gather them once per step.
@@ -240,25 +226,25 @@ pub(crate) fn run(
             .filter(|&i| p.pos[i].cmpge(lo).all() && p.pos[i].cmple(hi).all())
             .map(|i| (p.pos[i], 0.5 * p.diameter[i]))
             .collect();
-        while inj.due < target {
-            inj.due += 1;
+        while state.due < target {
+            state.due += 1;
             let placed = (0..MAX_ATTEMPTS).find_map(|_| {
-                let d = inj.diameter.sample(&mut inj.rng);
-                let x = inj.region.sample(&mut inj.rng);
+                let d = inj.diameter.sample(&mut state.rng);
+                let x = inj.region.sample(&mut state.rng);
                 let r = 0.5 * d;
                 let clear = walls.iter().all(|w| w.shape.gap(x, r).gap >= 0.0)
                     && near.iter().all(|&(y, ry)| (y - x).length_squared() >= (r + ry) * (r + ry));
                 clear.then_some((x, d))
             });
             let Some((x, d)) = placed else {
-                inj.skipped += 1;
+                state.skipped += 1;
                 continue;
             };
             let i = p.push(*next_id, inj.kind, d, x, inj.velocity);
             p.born[i] = t1;
             *next_id += 1;
             near.push((x, 0.5 * d));
-            inj.injected += 1;
+            state.injected += 1;
             added = true;
         }
     }
@@ -271,17 +257,17 @@ mod tests {
 
     #[test]
     fn due_counts_one_particle_per_period_from_start_until_stop() {
-        let inj = Injector::new(
-            "i".into(),
-            0,
-            10.0,
-            Region::Box { min: DVec3::ZERO, max: DVec3::ONE },
-            SizeDistribution::Fixed(1e-3),
-            DVec3::ZERO,
-            1.0,
-            2.0,
-            0,
-        );
+        let inj = Injector {
+            name: "i".into(),
+            kind: 0,
+            rate: 10.0,
+            region: Region::Box { min: DVec3::ZERO, max: DVec3::ONE },
+            diameter: SizeDistribution::Fixed(1e-3),
+            velocity: DVec3::ZERO,
+            start: 1.0,
+            stop: 2.0,
+            seed: 0,
+        };
         assert_eq!(inj.due_by(0.5), 0);
         assert_eq!(inj.due_by(1.0), 0);
         assert_eq!(inj.due_by(1.0001), 1);

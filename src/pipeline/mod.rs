@@ -1,97 +1,61 @@
 //! The simulation and its step.
 //!
-//! [`Simulation::step`] runs these stages, in this order, each in its own file:
+//! A [`Simulation`] is three things kept apart: the [`World`] a step changes (time, particles,
+//! lasting contacts, neighbour list, injectors' draws), the [`Setup`] a scene fixes (walls,
+//! kinds, fluid, effects, rules, time step, injectors and outlets) and the [`Record`] a run
+//! collects (contact events, lost particles, outlet removals, stage times).
 //!
-//! 1. **release** ([`release`]): held particles whose contact time ends inside the step are
-//!    released at `ε V∞`; resting particles whose net force points away from their wall leave it;
-//! 2. **free flight** ([`free_flight`]): every free particle is integrated over its part of the
-//!    step with the scene's effects only, resting particles slide along their wall (parallel);
-//! 3. **broad phase** ([`broad_phase`]): the particles whose swept path may touch a wall;
-//! 4. **narrow phase** and 5. **response** ([`wall_contacts`]), alternating per particle: the
-//!    first contact on the path is located inside the step, the bounce rule applied, and the
-//!    rest of the step integrated from the contact point, until the step is used up (parallel
-//!    over particles, results written back in particle order);
-//! 6. **commit** ([`commit`]): the new states replace the old; a particle whose state is no
-//!    longer finite is taken out and reported; then **outlets** ([`outlets`]) take out the
-//!    particles that left through them (recording their residence times) and **injectors**
-//!    ([`inject`]) add the particles due in the step, clear of walls and other particles
-//!    (serial and seeded, so independent of the thread count);
-//! 7. **emit**: the step's contact events wait in [`Simulation::events`] for the output sinks
-//!    (the [`run`] driver drains them and writes frames at the output times).
+//! [`Simulation::step`] runs these stages, in this order ([`StepWith::run`] reads as this
+//! list):
+//!
+//! 1. **release** — contacts that end: pair holds ([`contact::release_pairs`]); holds at walls
+//!    and resting particles pulled off their wall ([`contact::release_at_wall`], in the pass
+//!    below). The only stage that writes the state at the start of the step: it rewrites where
+//!    those particles' paths begin;
+//! 2. **free flight** — every particle over its part of the step with the scene's effects only
+//!    ([`crate::flight::Kernel::free_flight`]); resting particles slide along their wall;
+//! 3. **broad phase** — the particles whose straight move may touch a wall
+//!    ([`contact::touches_wall`]) and the neighbour pairs that may touch
+//!    ([`contact::candidate_pairs`]); 1, 2 and the walls' part of 3 run as one parallel pass
+//!    over the particles ([`particle_pass`]), so each particle's data is read once;
+//! 4. **contacts in the step** — narrow phase and response alternate: the first contact on the
+//!    paths is located inside the step, the bounce rule applied, the rest of the step
+//!    integrated from the contact point ([`contact::resolve_in_step`], islands in parallel);
+//! 5. **lasting contacts** — pairs held together or resting on each other
+//!    ([`contact::keep_lasting`]);
+//! 6. **commit** — the new state replaces the old; a particle whose state is no longer finite
+//!    is taken out and recorded ([`commit`]);
+//! 7. **outflow and inflow** — outlets take out the particles that left through them
+//!    ([`outlets`]), injectors add the particles due ([`inject`], serial and seeded);
+//! 8. **emit** — the step's contact events wait in [`Record::events`] for the output sinks
+//!    (the driver, [`crate::run`], hands them on).
+//!
+//! Stages 2–5 read the particles as they were at the start of the step and write their state
+//! at its end into [`Next`]; stage 6 swaps it in. Each stage's doc says what it writes.
 
-mod broad_phase;
 mod commit;
-mod contacts;
-mod events;
-mod free_flight;
 pub mod inject;
-mod motion;
-pub mod neighbours;
 pub mod outlets;
 mod particle_pass;
-mod persistent;
-mod release;
-pub mod run;
 
-pub use events::{ContactEvent, LostParticle, Other, Outcome};
-pub use motion::{Motion, WithMotion, dispatch};
+pub use commit::LostParticle;
 
-use crate::contact::{BounceRule, ImpactLocation};
+use crate::contact::{self, BounceRule, ContactEvent, ImpactLocation, LastingContact, Neighbours, Other};
 use crate::effects::Physics;
+use crate::flight::{Kernel, Motion, WithMotion, dispatch};
 use crate::fluid::Fluid;
 use crate::integrate::IntegratorKind;
-use crate::lanes::{DVec3x4, F64x4, LANES, each};
-use crate::particles::{NO_WALL, PairContact, ParticleKind, Particles, State};
+use crate::particles::{Next, ParticleKind, Particles};
 use crate::walls::Wall;
-use glam::DVec3;
-use neighbours::Neighbours;
+use inject::{Injector, InjectorState};
+use outlets::{Outlet, Removal};
 use std::time::{Duration, Instant};
 
-/// Hash map of the per-step stages: foldhash with a fixed seed — fast on small integer keys,
-/// and the same on every run (only lookups are used; no result depends on iteration order).
-pub(crate) type FastMap<K, V> = std::collections::HashMap<K, V, foldhash::fast::FixedState>;
-/// Hash set of the per-step stages (see [`FastMap`]).
-pub(crate) type FastSet<K> = std::collections::HashSet<K, foldhash::fast::FixedState>;
-
-/// Wall time spent in each stage of [`Simulation::step`], summed over steps.
-#[derive(Debug, Clone, Copy, Default)]
-pub struct StageTimes {
-    /// Stages 1, 2 and the walls' part of 3: one fused pass over the particles (release, free
-    /// flight, wall candidates), plus the end of pair holds.
-    pub particles: Duration,
-    /// Stage 3 for pairs: the Verlet list and the candidate pairs.
-    pub pairs: Duration,
-    /// Stages 4 and 5: events in time order.
-    pub contacts: Duration,
-    /// Stage 5b: lasting contacts between particles.
-    pub persistent: Duration,
-    /// Stage 6.
-    pub commit: Duration,
-    /// Stage 6: outlets and injectors.
-    pub inflow_outflow: Duration,
-}
-
-/// Per-step scratch columns, reused between steps.
-#[derive(Debug, Clone, Default)]
-struct Scratch {
-    next_pos: Vec<DVec3>,
-    next_vel: Vec<DVec3>,
-    next_state: Vec<State>,
-    candidates: Vec<u32>,
-    pair_candidates: Vec<[u32; 2]>,
-}
-
-/// Everything a simulation is: the world state and the fixed parameters of the scene.
+/// What a scene fixes: nothing here changes while the simulation runs.
 #[derive(Debug, Clone)]
-pub struct Simulation {
-    /// Simulated time (s).
-    pub time: f64,
+pub struct Setup {
     /// Time step `Δt` (s).
     pub dt: f64,
-    /// Steps taken.
-    pub steps: u64,
-    /// The particles.
-    pub particles: Particles,
     /// Particle kinds, indexed by [`Particles::kind`].
     pub kinds: Vec<ParticleKind>,
     /// Static walls.
@@ -106,135 +70,28 @@ pub struct Simulation {
     pub integrator: IntegratorKind,
     /// Where wall contacts are placed in time: inside the step (default) or at its end.
     pub impact_location: ImpactLocation,
-    /// Contact events of the steps since the sinks last drained them.
-    pub events: Vec<ContactEvent>,
-    /// Particles taken out because their state became non-finite.
-    pub lost: Vec<LostParticle>,
-    /// Time spent per stage.
-    pub stage_times: StageTimes,
-    /// Lasting contacts between particles (holds, and pairs that met below `St_c`).
-    pub pair_contacts: Vec<PairContact>,
-    /// Verlet neighbour list for particle–particle contacts.
-    pub neighbours: Neighbours,
     /// Whether particles collide with each other (off: they pass through each other).
     pub pair_collisions: bool,
     /// Verlet skin as a fraction of the largest diameter.
     pub skin_fraction: f64,
-    /// Injectors (stage 6), with their counts.
-    pub injectors: Vec<inject::Injector>,
-    /// Outlets (stage 6), with the particles they removed.
-    pub outlets: Vec<outlets::Outlet>,
-    /// Id of the next injected particle: above every id in use, so ids are never reused.
-    pub next_id: u32,
-    scratch: Scratch,
+    /// Injectors (stage 7).
+    pub injectors: Vec<Injector>,
+    /// Outlets (stage 7).
+    pub outlets: Vec<Outlet>,
 }
 
-/// The read-only context of the per-particle stages.
-pub(crate) struct Ctx<'a, M> {
-    pub motion: &'a M,
-    pub walls: &'a [Wall],
-    pub kinds: &'a [ParticleKind],
-    pub fluid: &'a Fluid,
-    pub rule: &'a BounceRule,
-    pub impact_location: ImpactLocation,
-    kind_accel: Vec<DVec3>,
-    kind_drag_rate: Vec<f64>,
-    inertia_density: Vec<f64>,
-    re_rate: f64,
-}
-
-impl<'a, M: Motion> Ctx<'a, M> {
-    /// The force field of a particle of kind `k` and diameter `d`.
-    #[inline(always)]
-    pub fn field(&self, k: usize, d: f64) -> M::Field<DVec3> {
-        self.motion.field(self.kind_accel[k], self.kind_drag_rate[k] / (d * d), self.re_rate * d)
-    }
-
-    /// [`Ctx::field`] of a lane group: kinds `k`, diameters `d`.
-    #[inline(always)]
-    pub fn field_lanes(&self, k: [u16; LANES], d: F64x4) -> M::Field<DVec3x4> {
-        let accel = DVec3x4::from_array(each(k, |k| self.kind_accel[k as usize]));
-        let drag_rate = F64x4(each(k, |k| self.kind_drag_rate[k as usize]));
-        self.motion.field(accel, drag_rate / (d * d), d * self.re_rate)
-    }
-}
-
-/// A stretch of one particle's motion inside a step: from time `t`, state `(x, v)`.
-#[derive(Debug, Clone, Copy)]
-pub(crate) struct Segment {
-    pub t: f64,
-    pub x: DVec3,
-    pub v: DVec3,
-    pub state: State,
-    pub wall: u32,
-}
-
-/// Where a segment ends.
-#[derive(Debug, Clone, Copy)]
-pub(crate) struct Flight {
-    pub x: DVec3,
-    pub v: DVec3,
-    pub state: State,
-}
-
-/// Gap (in particle radii) beyond which a sliding particle has lost its wall: it went over a
-/// convex edge, or its neighbours lifted it. Below it the particle is put back on the wall. The
-/// same hysteresis as for lasting pair contacts, so that a particle in a bed does not leave and
-/// land again at every step.
-const FALL_AWAY: f64 = 1e-3;
-
-/// Integrates one segment over `h` (s): free flight, sliding on the wall, or nothing (held).
-#[inline]
-pub(crate) fn fly<M: Motion>(ctx: &Ctx<M>, field: &M::Field<DVec3>, r: f64, seg: &Segment, h: f64) -> Flight {
-    match seg.state {
-        // Held at a wall: immobilised.
-        State::Held if seg.wall != NO_WALL => Flight { x: seg.x, v: seg.v, state: State::Held },
-        // Free, or held by another particle (the pair is kept together afterwards).
-        State::Free | State::Held => {
-            let (x, v) = ctx.motion.advance(field, seg.x, seg.v, h);
-            Flight { x, v, state: seg.state }
-        }
-        State::Resting => {
-            use crate::walls::Surface;
-            let wall = &ctx.walls[seg.wall as usize].shape;
-            let n = wall.gap(seg.x, r).normal;
-            let slide = crate::integrate::Tangential { inner: field, n };
-            let (x, v) = ctx.motion.advance(&slide, seg.x, seg.v - seg.v.dot(n) * n, h);
-            let g = wall.gap(x, r);
-            if g.gap > FALL_AWAY * r {
-                Flight { x, v, state: State::Free }
-            } else {
-                let n1 = g.normal;
-                let (x, v) = (x - g.gap * n1, v - v.dot(n1) * n1);
-                // A resting particle ignores contacts with its own wall, so sliding along one
-                // face must not take it through another face of that wall (into a box's corner,
-                // across a mesh's crease): it stops there.
-                let (x, v, _) = crate::walls::push_out(wall, x, v, r);
-                Flight { x, v, state: State::Resting }
-            }
-        }
-    }
-}
-
-impl Simulation {
-    /// A simulation at time 0 with these parts. `dt` is the time step (s).
-    #[allow(clippy::too_many_arguments)]
+impl Setup {
+    /// A setup with these parts, particles colliding with each other, impacts located inside
+    /// the step, no injector and no outlet.
     pub fn new(
-        particles: Particles,
         kinds: Vec<ParticleKind>,
         walls: Vec<Wall>,
-        fluid: Fluid,
-        physics: Physics,
+        (fluid, physics): (Fluid, Physics),
         rule: BounceRule,
-        integrator: IntegratorKind,
-        dt: f64,
+        (integrator, dt): (IntegratorKind, f64),
     ) -> Self {
-        let next_id = particles.id.iter().max().map_or(0, |&i| i + 1);
-        Simulation {
-            time: 0.0,
+        Setup {
             dt,
-            steps: 0,
-            particles,
             kinds,
             walls,
             fluid,
@@ -242,18 +99,108 @@ impl Simulation {
             rule,
             integrator,
             impact_location: ImpactLocation::InStep,
-            events: Vec::new(),
-            lost: Vec::new(),
-            stage_times: StageTimes::default(),
-            pair_contacts: Vec::new(),
-            neighbours: Neighbours::default(),
             pair_collisions: true,
             skin_fraction: 0.5,
             injectors: Vec::new(),
             outlets: Vec::new(),
-            next_id,
-            scratch: Scratch::default(),
         }
+    }
+}
+
+impl Setup {
+    /// How the outputs name what a particle touched: the wall's name or the other particle's
+    /// id, and the kind, `"wall"` or `"particle"`.
+    pub fn name_of(&self, other: Other) -> (String, &'static str) {
+        match other {
+            Other::Wall(w) => (self.walls[w as usize].name.clone(), "wall"),
+            Other::Particle(id) => (id.to_string(), "particle"),
+        }
+    }
+}
+
+/// What a step changes.
+#[derive(Debug, Clone, Default)]
+pub struct World {
+    /// Simulated time (s).
+    pub time: f64,
+    /// Steps taken.
+    pub steps: u64,
+    /// The particles.
+    pub particles: Particles,
+    /// Lasting contacts between particles (holds, and pairs that met below `St_c`).
+    pub lasting: Vec<LastingContact>,
+    /// Verlet neighbour list for particle–particle contacts.
+    pub neighbours: Neighbours,
+    /// Each injector's counts and random draws, like [`Setup::injectors`].
+    pub injection: Vec<InjectorState>,
+    /// Id of the next injected particle: above every id in use, so ids are never reused.
+    pub next_id: u32,
+}
+
+/// What a run collects.
+#[derive(Debug, Clone, Default)]
+pub struct Record {
+    /// Contact events of the steps since the sinks last drained them.
+    pub events: Vec<ContactEvent>,
+    /// Particles taken out because their state became non-finite.
+    pub lost: Vec<LostParticle>,
+    /// What each outlet removed, in removal order, like [`Setup::outlets`].
+    pub removed: Vec<Vec<Removal>>,
+    /// Time spent per stage.
+    pub stage_times: StageTimes,
+}
+
+/// Wall time spent in each stage of [`Simulation::step`], summed over steps (numbered as in
+/// the module documentation).
+#[derive(Debug, Clone, Copy, Default)]
+pub struct StageTimes {
+    /// 1–3 (walls): the pass over the particles, and the end of pair holds.
+    pub particle_pass: Duration,
+    /// 3 (pairs): the Verlet list and the candidate pairs.
+    pub broad_phase: Duration,
+    /// 4: contacts in the step.
+    pub in_step: Duration,
+    /// 5: lasting contacts between particles.
+    pub lasting: Duration,
+    /// 6: commit.
+    pub commit: Duration,
+    /// 7: outlets and injectors.
+    pub inflow_outflow: Duration,
+}
+
+/// Per-step scratch, reused between steps: the state at the end of the step, and the broad
+/// phase's candidates.
+#[derive(Debug, Clone, Default)]
+struct Scratch {
+    next: Next,
+    wall_candidates: Vec<u32>,
+    pair_candidates: Vec<[u32; 2]>,
+}
+
+/// A simulation: the world, the setup it runs under, and what it has recorded.
+#[derive(Debug, Clone)]
+pub struct Simulation {
+    /// What a step changes.
+    pub world: World,
+    /// What the scene fixes.
+    pub setup: Setup,
+    /// What the run collects.
+    pub record: Record,
+    scratch: Scratch,
+}
+
+impl Simulation {
+    /// A simulation at time 0 of `particles` under `setup`.
+    pub fn new(setup: Setup, particles: Particles) -> Self {
+        let next_id = particles.id.iter().max().map_or(0, |&i| i + 1);
+        let world = World {
+            particles,
+            injection: setup.injectors.iter().map(Injector::start).collect(),
+            next_id,
+            ..World::default()
+        };
+        let record = Record { removed: vec![Vec::new(); setup.outlets.len()], ..Record::default() };
+        Simulation { world, setup, record, scratch: Scratch::default() }
     }
 
     /// Steps with `Δt` until `t_end`, shortening the last step to land on it exactly, so that
@@ -277,47 +224,36 @@ impl Simulation {
     }
 
     fn advance_to_in_pool(&mut self, t_end: f64) {
-        while self.time < t_end {
-            let remaining = t_end - self.time;
+        let dt = self.setup.dt;
+        while self.world.time < t_end {
+            let remaining = t_end - self.world.time;
             // A sliver left by round-off (the sum of many steps misses t_end by ~n·ε·t) is no step.
-            if remaining <= 1e-6 * self.dt {
-                self.time = t_end;
+            if remaining <= 1e-6 * dt {
+                self.world.time = t_end;
                 break;
             }
-            let h = if remaining < 1.000_001 * self.dt { remaining } else { self.dt };
+            let h = if remaining < 1.000_001 * dt { remaining } else { dt };
             self.step(h);
             if h == remaining {
-                self.time = t_end;
+                self.world.time = t_end;
             }
         }
     }
 
     /// Advances every particle by `h` (s): the stages listed in the module documentation.
     pub fn step(&mut self, h: f64) {
-        let (integrator, drag, flow) = (self.integrator, self.physics.drag, self.fluid.flow);
-        dispatch(integrator, drag, flow, StepWith { sim: self, h });
-    }
-
-    fn ctx<'a, M: Motion>(&'a self, motion: &'a M) -> Ctx<'a, M> {
-        let n = self.kinds.len();
-        let mu = self.fluid.viscosity;
-        Ctx {
-            motion,
-            walls: &self.walls,
-            kinds: &self.kinds,
-            fluid: &self.fluid,
-            rule: &self.rule,
-            impact_location: self.impact_location,
-            kind_accel: (0..n).map(|k| self.physics.body_acceleration(k)).collect(),
-            kind_drag_rate: (0..n).map(|k| self.physics.drag_rate(k, &self.fluid)).collect(),
-            inertia_density: self.physics.kinds.iter().map(|k| k.inertia_density).collect(),
-            re_rate: if mu > 0.0 { self.fluid.density / mu } else { 0.0 },
-        }
+        let Simulation { world, setup, record, scratch } = self;
+        let (integrator, drag, flow) = (setup.integrator, setup.physics.drag, setup.fluid.flow);
+        dispatch(integrator, drag, flow, StepWith { world, setup, record, scratch, h });
     }
 }
 
+/// One step of `h`, for whichever [`Motion`] the scene's integrator, drag law and flow make.
 struct StepWith<'a> {
-    sim: &'a mut Simulation,
+    world: &'a mut World,
+    setup: &'a Setup,
+    record: &'a mut Record,
+    scratch: &'a mut Scratch,
     h: f64,
 }
 
@@ -325,77 +261,71 @@ impl WithMotion for StepWith<'_> {
     type Out = ();
 
     fn run<M: Motion>(self, motion: &M) {
-        let StepWith { sim, h } = self;
-        let (t0, t1) = (sim.time, sim.time + h);
-        let mut scratch = std::mem::take(&mut sim.scratch);
-        let mut particles = std::mem::take(&mut sim.particles);
-        let mut contacts = std::mem::take(&mut sim.pair_contacts);
-        let mut neighbours = std::mem::take(&mut sim.neighbours);
-        let mut times = sim.stage_times;
-        let mut events = std::mem::take(&mut sim.events);
-        {
-            let ctx = sim.ctx(motion);
-            let clock = Instant::now();
-            // 1. (pairs; the walls' part is fused below)
-            persistent::release(&ctx, &mut particles, &mut contacts, t1);
-            // 1. + 2. + 3. (walls), one pass over the particles.
-            let pass = particle_pass::run(&ctx, &mut particles, t0, t1, &mut scratch);
-            let c1 = Instant::now();
-            // 3. (pairs)
-            if sim.pair_collisions {
-                broad_phase::pairs(
-                    &particles,
-                    &mut scratch,
-                    &mut neighbours,
-                    pass.step_move,
-                    sim.skin_fraction,
-                    &contacts,
-                );
-            }
-            let pairs: &[[u32; 2]] = if sim.pair_collisions { &neighbours.pairs } else { &[] };
-            let c3 = Instant::now();
-            // 4. + 5.
-            let first_event = events.len();
-            let mut suspect = pass.suspect;
-            suspect |= contacts::run(&ctx, &mut particles, t0, t1, &mut scratch, &mut events, &mut contacts);
-            let c3b = Instant::now();
-            suspect |= persistent::run(&ctx, &particles, &mut scratch, &mut contacts, pairs, h);
-            let c4 = Instant::now();
-            // 6.
-            if commit::run(
-                &mut particles,
-                &mut scratch,
-                (&pass.fell, suspect),
-                t1,
-                &mut sim.lost,
-                &mut contacts,
-            ) {
-                neighbours.invalidate();
-            }
-            let c5 = Instant::now();
-            // 6. (continued) Outlets, then injectors: a particle injected in this step is not
-            // judged by an outlet before it has moved.
-            let removed =
-                outlets::run(&mut sim.outlets, &mut particles, &events[first_event..], t1, &mut contacts);
-            let added = inject::run(&mut sim.injectors, &sim.walls, &mut particles, &mut sim.next_id, t1);
-            if removed || added {
-                neighbours.invalidate();
-            }
-            times.inflow_outflow += c5.elapsed();
-            times.particles += c1 - clock;
-            times.pairs += c3 - c1;
-            times.contacts += c3b - c3;
-            times.persistent += c4 - c3b;
-            times.commit += c5 - c4;
+        let StepWith { world, setup, record, scratch, h } = self;
+        let (t0, t1) = (world.time, world.time + h);
+        let flight = Kernel::new(motion, &setup.physics, &setup.fluid, &setup.walls);
+        let ctx = contact::Ctx::new(
+            &flight,
+            &setup.physics,
+            &setup.kinds,
+            &setup.fluid,
+            &setup.rule,
+            setup.impact_location,
+        );
+        let times = &mut record.stage_times;
+        let p = &mut world.particles;
+        let clock = Instant::now();
+        // 1. Release (pairs; at walls inside the pass).
+        contact::release_pairs(&ctx, p, &mut world.lasting, t1);
+        // 1.–3. (walls): one pass over the particles.
+        let pass = particle_pass::run(&flight, p, (t0, t1), &mut scratch.next, &mut scratch.wall_candidates);
+        let c1 = Instant::now();
+        // 3. Broad phase (pairs).
+        scratch.pair_candidates.clear();
+        if setup.pair_collisions {
+            let verlet = (pass.step_move, setup.skin_fraction);
+            let (next, lasting) = (&scratch.next, &world.lasting);
+            contact::candidate_pairs(
+                p,
+                next,
+                &mut world.neighbours,
+                verlet,
+                lasting,
+                &mut scratch.pair_candidates,
+            );
         }
-        // 7. Events stay in `sim.events` for the sinks.
-        sim.particles = particles;
-        sim.pair_contacts = contacts;
-        sim.neighbours = neighbours;
-        sim.scratch = scratch;
-        sim.events = events;
-        sim.stage_times = times;
-        sim.time = t1;
-        sim.steps += 1;
+        let neighbour_pairs: &[[u32; 2]] = if setup.pair_collisions { &world.neighbours.pairs } else { &[] };
+        let c2 = Instant::now();
+        // 4. Contacts in the step.
+        let first_event = record.events.len();
+        let candidates = (&scratch.wall_candidates[..], &scratch.pair_candidates[..]);
+        let (next, events, lasting) = (&mut scratch.next, &mut record.events, &mut world.lasting);
+        let mut suspect = pass.suspect;
+        suspect |= contact::resolve_in_step(&ctx, p, (t0, t1), candidates, next, events, lasting);
+        let c3 = Instant::now();
+        // 5. Lasting contacts.
+        suspect |= contact::keep_lasting(&ctx, p, next, lasting, neighbour_pairs, h);
+        let c4 = Instant::now();
+        // 6. Commit.
+        let mut renumbered = commit::run(p, next, suspect, t1, &mut record.lost, lasting);
+        let c5 = Instant::now();
+        // 7. Outflow, then inflow: a particle injected in this step is not judged by an outlet
+        // before it has moved.
+        let step_events = &record.events[first_event..];
+        renumbered |= outlets::run(&setup.outlets, &mut record.removed, p, step_events, t1, lasting);
+        renumbered |=
+            inject::run(&setup.injectors, &mut world.injection, &setup.walls, p, &mut world.next_id, t1);
+        if renumbered {
+            world.neighbours.invalidate();
+        }
+        times.inflow_outflow += c5.elapsed();
+        times.particle_pass += c1 - clock;
+        times.broad_phase += c2 - c1;
+        times.in_step += c3 - c2;
+        times.lasting += c4 - c3;
+        times.commit += c5 - c4;
+        // 8. Emit: the step's events wait in `record.events` for the sinks.
+        world.time = t1;
+        world.steps += 1;
     }
 }

@@ -1,9 +1,9 @@
-//! Stage 6 (outflow): outlets take out the particles that leave through them, recording each
+//! Stage 7 (outflow): outlets take out the particles that leave through them, recording each
 //! one's residence time (removal time minus birth time).
 
-use super::commit;
-use super::events::{ContactEvent, Other};
-use crate::particles::{NO_WALL, PairContact, Particles};
+use crate::contact::lasting::remove_particles;
+use crate::contact::{ContactEvent, LastingContact, Other};
+use crate::particles::{NO_WALL, Particles};
 use glam::DVec3;
 use std::collections::HashSet;
 
@@ -34,33 +34,27 @@ pub struct Removal {
     pub residence_time: f64,
 }
 
-/// A scene `[[outlets]]` entry and what it removed.
+/// A scene `[[outlets]]` entry (what it removes is recorded in
+/// [`crate::pipeline::Record::removed`]).
 #[derive(Debug, Clone)]
 pub struct Outlet {
     /// Name in summaries (`outlets[0]` unless the scene names it).
     pub name: String,
     /// Plane or wall.
     pub shape: OutletShape,
-    /// Every particle it removed, in removal order.
-    pub removed: Vec<Removal>,
-}
-
-impl Outlet {
-    /// An outlet that has removed nothing yet.
-    pub fn new(name: String, shape: OutletShape) -> Self {
-        Outlet { name, shape, removed: Vec::new() }
-    }
 }
 
 /// Takes out the particles that left through an outlet in the step ending at `t1`;
 /// `step_events` are the contacts of this step. The first outlet (in scene order) that claims
-/// a particle records it. Returns true when particles were removed (indices changed).
+/// a particle records it in its list of `removed`. Returns true when particles were removed
+/// (indices changed).
 pub(crate) fn run(
-    outlets: &mut [Outlet],
+    outlets: &[Outlet],
+    removed: &mut [Vec<Removal>],
     p: &mut Particles,
     step_events: &[ContactEvent],
     t1: f64,
-    contacts: &mut Vec<PairContact>,
+    lasting: &mut Vec<LastingContact>,
 ) -> bool {
     if outlets.is_empty() || p.is_empty() {
         return false;
@@ -68,7 +62,7 @@ pub(crate) fn run(
     let mut keep = vec![true; p.len()];
     let mut any = false;
     let q: &Particles = p;
-    for outlet in outlets.iter_mut() {
+    for (outlet, removed) in outlets.iter().zip(removed.iter_mut()) {
         let touched: HashSet<u32> = match outlet.shape {
             OutletShape::Wall(w) => {
                 step_events.iter().filter(|e| e.other == Other::Wall(w)).map(|e| e.id).collect()
@@ -87,10 +81,10 @@ pub(crate) fn run(
                 out.push(Removal { id: q.id[i], time: t1, residence_time: t1 - q.born[i] });
             }
         }
-        outlet.removed.extend(out);
+        removed.extend(out);
     }
     if any {
-        commit::remove(p, &keep, contacts);
+        remove_particles(p, &keep, lasting);
     }
     any
 }

@@ -1,10 +1,11 @@
 //! Stages 1, 2 and the wall part of 3, fused into one parallel pass over the particle columns,
 //! so that each particle's data is read once per step: for every particle, in order,
-//! [`release::particle`], [`free_flight::particle`] and [`broad_phase::touches_wall`].
+//! [`contact::release_at_wall`], [`Kernel::free_flight`] and [`contact::touches_wall`].
 
-use super::{Ctx, Motion, Scratch, broad_phase, free_flight, release};
-use crate::lanes::{DVec3x4, F64x4, LANES};
-use crate::particles::{Particles, State};
+use crate::contact;
+use crate::flight::{Kernel, Motion, Segment};
+use crate::numeric::lanes::{DVec3x4, F64x4, LANES};
+use crate::particles::{NO_WALL, Next, Particles, State};
 use crate::walls::Surface;
 use glam::DVec3;
 use multiversion::{multiversion, target::selected_target};
@@ -16,40 +17,39 @@ const CHUNK: usize = 512;
 
 /// What the pass found besides the new states.
 pub(crate) struct PassResult {
-    /// The largest move of the step.
+    /// The largest move of the step (m).
     pub step_move: f64,
-    /// Particles that slid off their wall in free flight (their wall is cleared at commit).
-    pub fell: Vec<u32>,
     /// Some particle's new state may not be finite (commit then checks each one).
     pub suspect: bool,
 }
 
-/// Runs the fused stages over all particles. Fills `scratch.next_*` and `scratch.candidates`
-/// (the particles that may touch a wall, in index order).
+/// Runs the fused stages over all particles from `t0` to `t1`. Stage 1 rewrites, in `p`, the
+/// state, velocity and wall of the particles it releases; stages 2 and 3 write every particle's
+/// end of step into `next` (position, velocity, state, wall) and the particles that may touch a
+/// wall into `wall_candidates`, in index order.
 pub(crate) fn run<M: Motion>(
-    ctx: &Ctx<M>,
+    flight: &Kernel<M>,
     p: &mut Particles,
-    t0: f64,
-    t1: f64,
-    scratch: &mut Scratch,
+    (t0, t1): (f64, f64),
+    next: &mut Next,
+    wall_candidates: &mut Vec<u32>,
 ) -> PassResult {
     let n = p.len();
-    scratch.next_pos.resize(n, DVec3::ZERO);
-    scratch.next_vel.resize(n, DVec3::ZERO);
-    scratch.next_state.resize(n, State::Free);
+    next.resize(n);
     let (pos, kind, diameter, release_time, release_vel) =
         (&p.pos, &p.kind, &p.diameter, &p.release_time, &p.release_vel);
     let chunks: Vec<Chunk> = (
         p.state.par_chunks_mut(CHUNK),
         p.vel.par_chunks_mut(CHUNK),
         p.wall.par_chunks_mut(CHUNK),
-        scratch.next_pos.par_chunks_mut(CHUNK),
-        scratch.next_vel.par_chunks_mut(CHUNK),
-        scratch.next_state.par_chunks_mut(CHUNK),
+        next.pos.par_chunks_mut(CHUNK),
+        next.vel.par_chunks_mut(CHUNK),
+        next.state.par_chunks_mut(CHUNK),
+        next.wall.par_chunks_mut(CHUNK),
     )
         .into_par_iter()
         .enumerate()
-        .map(|(c, (state, vel, wall, x1, v1, s1))| {
+        .map(|(c, (state, vel, wall, x1, v1, s1, w1))| {
             // Every column as a slice of the chunk's length, so the loops have no bounds checks.
             let (base, len) = (c * CHUNK, state.len());
             let range = base..base + len;
@@ -66,19 +66,19 @@ pub(crate) fn run<M: Motion>(
                 x1: &mut x1[..len],
                 v1: &mut v1[..len],
                 s1: &mut s1[..len],
+                w1: &mut w1[..len],
             };
             if cols.state.iter().all(|&s| s == State::Free) {
-                free_chunk(ctx, cols, t0, t1)
+                free_chunk(flight, cols, t0, t1)
             } else {
-                mixed_chunk(ctx, cols, t0, t1)
+                mixed_chunk(flight, cols, t0, t1)
             }
         })
         .collect();
-    scratch.candidates.clear();
-    let mut result = PassResult { step_move: 0.0, fell: Vec::new(), suspect: false };
+    wall_candidates.clear();
+    let mut result = PassResult { step_move: 0.0, suspect: false };
     for chunk in chunks {
-        scratch.candidates.extend(chunk.candidates);
-        result.fell.extend(chunk.fell);
+        wall_candidates.extend(chunk.candidates);
         result.step_move = result.step_move.max(chunk.step_move);
         result.suspect |= chunk.suspect;
     }
@@ -86,8 +86,8 @@ pub(crate) fn run<M: Motion>(
     result
 }
 
-/// One chunk of the particle columns: the old state (read), the state the release changes, and
-/// the new state (written).
+/// One chunk of the particle columns: the state at the start of the step (read), the part of
+/// it that release rewrites, and the end of the step (written).
 struct Columns<'a> {
     base: usize,
     pos: &'a [DVec3],
@@ -101,6 +101,7 @@ struct Columns<'a> {
     x1: &'a mut [DVec3],
     v1: &'a mut [DVec3],
     s1: &'a mut [State],
+    w1: &'a mut [u32],
 }
 
 /// A chunk of free particles only (the bulk of a dilute scene): 1. has nothing to release,
@@ -111,10 +112,10 @@ struct Columns<'a> {
 /// adaptor with a closure, no `<[T; N]>::map`): a call out of the AVX2 copy runs without AVX2
 /// and passes its values through memory.
 #[multiversion(targets("x86_64+avx2"))]
-fn free_chunk<M: Motion>(ctx: &Ctx<M>, c: Columns, t0: f64, t1: f64) -> Chunk {
+fn free_chunk<M: Motion>(flight: &Kernel<M>, c: Columns, t0: f64, t1: f64) -> Chunk {
     // Free at the start of the step: released, if ever, before t0.
     debug_assert!(c.release_time.iter().all(|&t| t <= t0));
-    // 2. alone first, by lane groups of four particles where that pays (`crate::lanes`), the
+    // 2. alone first, by lane groups of four particles where that pays (`crate::numeric::lanes`), the
     // few left over one by one: the same operations either way, so the same bits.
     let h = t1 - t0;
     // Lane groups pay for every law where one vector instruction holds a whole group (AVX2),
@@ -130,15 +131,16 @@ fn free_chunk<M: Motion>(ctx: &Ctx<M>, c: Columns, t0: f64, t1: f64) -> Chunk {
     );
     let (x1, v1) = (c.x1[..by_lanes].as_chunks_mut::<LANES>().0, c.v1[..by_lanes].as_chunks_mut::<LANES>().0);
     for (((((x, v), k), d), x1), v1) in pos.iter().zip(vel).zip(kind).zip(diameter).zip(x1).zip(v1) {
-        let field = ctx.field_lanes(*k, F64x4(*d));
-        let (xn, vn) = ctx.motion.advance(&field, DVec3x4::from_array(*x), DVec3x4::from_array(*v), h);
+        let field = flight.field_lanes(*k, F64x4(*d));
+        let (xn, vn) = flight.motion.advance(&field, DVec3x4::from_array(*x), DVec3x4::from_array(*v), h);
         (*x1, *v1) = (xn.to_array(), vn.to_array());
     }
     for j in by_lanes..c.pos.len() {
-        let field = ctx.field(c.kind[j] as usize, c.diameter[j]);
-        (c.x1[j], c.v1[j]) = ctx.motion.advance(&field, c.pos[j], c.vel[j], h);
+        let field = flight.field(c.kind[j] as usize, c.diameter[j]);
+        (c.x1[j], c.v1[j]) = flight.motion.advance(&field, c.pos[j], c.vel[j], h);
     }
     c.s1.fill(State::Free);
+    c.w1.fill(NO_WALL);
     // 3. (walls), and what the step needs to know of the moves.
     let mut out = Chunk::default();
     // Sum of every new coordinate: finite unless one is not (or, harmlessly, unless it
@@ -147,10 +149,10 @@ fn free_chunk<M: Motion>(ctx: &Ctx<M>, c: Columns, t0: f64, t1: f64) -> Chunk {
     for j in 0..c.pos.len() {
         let (x, xn, vn, r) = (c.pos[j], c.x1[j], c.v1[j], 0.5 * c.diameter[j]);
         sum += (xn + vn).element_sum();
-        // `broad_phase::touches_wall` for a free particle, written out: calling it here (with
+        // `contact::touches_wall` for a free particle, written out: calling it here (with
         // the state a constant) made this loop half as fast. A plain loop, not `any`, whose
         // closure is a call of its own in the AVX2 copy of this function (also half as fast).
-        for w in ctx.walls {
+        for w in flight.walls {
             if w.shape.may_touch(x, xn, r) {
                 out.candidates.push((c.base + j) as u32);
                 break;
@@ -164,39 +166,24 @@ fn free_chunk<M: Motion>(ctx: &Ctx<M>, c: Columns, t0: f64, t1: f64) -> Chunk {
 }
 
 /// Any chunk: stages 1, 2 and 3 (walls) for particles in every state.
-fn mixed_chunk<M: Motion>(ctx: &Ctx<M>, c: Columns, t0: f64, t1: f64) -> Chunk {
+fn mixed_chunk<M: Motion>(flight: &Kernel<M>, c: Columns, t0: f64, t1: f64) -> Chunk {
     let mut out = Chunk::default();
     let mut sum = 0.0;
     for j in 0..c.pos.len() {
         let (x, k, d) = (c.pos[j], c.kind[j] as usize, c.diameter[j]);
-        // 1.
-        release::particle(
-            ctx,
-            &mut c.state[j],
-            &mut c.vel[j],
-            &mut c.wall[j],
-            (c.release_time[j], c.release_vel[j]),
-            x,
-            (k, d),
-            t1,
-        );
+        // 1. (walls): rewrites where the path starts.
+        let start =
+            Segment { t: t0.max(c.release_time[j]), x, v: c.vel[j], state: c.state[j], wall: c.wall[j] };
+        let start = contact::release_at_wall(flight, start, c.release_vel[j], (k, d), t1);
+        (c.state[j], c.vel[j], c.wall[j]) = (start.state, start.v, start.wall);
         // 2.
-        let f = free_flight::particle(
-            ctx,
-            (x, c.vel[j]),
-            (c.state[j], c.wall[j]),
-            c.release_time[j],
-            (k, d),
-            t0,
-            t1,
-        );
+        let f = flight.free_flight(start, (k, d), t1);
         (c.x1[j], c.v1[j], c.s1[j]) = (f.x, f.v, f.state);
+        // A resting particle that slid off its wall has none.
+        c.w1[j] = if f.state == State::Free { NO_WALL } else { start.wall };
         sum += (f.x + f.v).element_sum();
-        if f.state == State::Free && c.state[j] == State::Resting {
-            out.fell.push((c.base + j) as u32);
-        }
         // 3. (walls)
-        if broad_phase::touches_wall(ctx, (x, f.x), c.state[j], c.wall[j], d) {
+        if contact::touches_wall(flight.walls, (x, f.x), start.state, start.wall, d) {
             out.candidates.push((c.base + j) as u32);
         }
         out.step_move = out.step_move.max((f.x - x).length_squared());
@@ -209,7 +196,6 @@ fn mixed_chunk<M: Motion>(ctx: &Ctx<M>, c: Columns, t0: f64, t1: f64) -> Chunk {
 #[derive(Default)]
 struct Chunk {
     candidates: Vec<u32>,
-    fell: Vec<u32>,
     step_move: f64,
     suspect: bool,
 }

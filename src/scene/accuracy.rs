@@ -93,7 +93,7 @@ pub struct AutoStep {
 /// The time step and integrator of `accuracy` for `scene`, or why there is none (the message
 /// for `simulation.dt`).
 pub fn auto_step(scene: &Scene, accuracy: Accuracy) -> Result<AutoStep, String> {
-    if scene.physics.drag.is_none() {
+    if scene.setup.physics.drag.is_none() {
         return Err("\"auto\" needs the drag effect (the time scales are the relaxation time and the \
                     terminal velocity's); give dt in s"
             .into());
@@ -106,7 +106,7 @@ pub fn auto_step(scene: &Scene, accuracy: Accuracy) -> Result<AutoStep, String> 
             (r.relaxation_time, format!("relaxation time t_r of {who}")),
             (d / r.terminal_velocity, format!("time to cross a diameter d/V_t of {who}")),
         ];
-        if scene.rule.hold_at_contact && r.bounces {
+        if scene.setup.rule.hold_at_contact && r.bounces {
             scales.push((r.contact_time, format!("contact time t_c of {who}")));
         }
         for (t, why) in scales {

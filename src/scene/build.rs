@@ -2,17 +2,18 @@
 
 use super::Scene;
 use super::accuracy::auto_step;
-use super::error::{Invalid, SceneError, check};
+use super::error::check::{self, forbid, only, required};
+use super::error::{Invalid, SceneError};
 use super::schema::*;
 use super::stiffness::stiffest_drag;
-use super::{fill, flux};
+use super::{fill, flux, walls};
 use crate::contact::BounceRule;
 use crate::effects::{Physics, build_effect};
 use crate::fluid::{Flow, Fluid, Poiseuille};
 use crate::integrate::IntegratorKind;
 use crate::particles::{Material, ParticleKind, Particles};
-use crate::pipeline::inject::Injector;
-use crate::walls::{Cuboid, Cylinder, Plane, Shape, Surface, Wall, WallMaterial, annulus_mesh, load_mesh};
+use crate::pipeline::Setup;
+use crate::walls::{Surface, Wall};
 use glam::DVec3;
 use std::path::Path;
 
@@ -85,7 +86,7 @@ pub(super) fn build(file: SceneFile, base: &Path, source: &str) -> Result<Scene,
 
     let fluid = build_fluid(&file.fluid)?;
     let kinds = build_kinds(&file.kinds)?;
-    let walls = build_walls(&file.walls, base)?;
+    let walls = walls::build_walls(&file.walls, base)?;
 
     let mut effects = Vec::new();
     for (name, table) in &file.effects {
@@ -139,41 +140,29 @@ pub(super) fn build(file: SceneFile, base: &Path, source: &str) -> Result<Scene,
     let injectors = flux::build_injectors(&file.injectors, &kinds, duration)?;
     let outlets = flux::build_outlets(&file.outlets, &walls)?;
 
+    let integrator = sim.integrator.unwrap_or(IntegratorKind::Rk2);
+    let mut setup = Setup::new(kinds, walls, (fluid, physics), rule, (integrator, dt));
+    setup.impact_location = sim.impact_location;
+    setup.injectors = injectors;
+    setup.outlets = outlets;
     let mut scene = Scene {
         path: Default::default(),
         source: source.to_string(),
-        dt,
         duration,
         output_interval,
-        integrator: sim.integrator.unwrap_or(IntegratorKind::Rk2),
-        impact_location: sim.impact_location,
         auto_step: None,
-        fluid,
-        kinds,
-        walls,
-        physics,
-        rule,
+        setup,
         particles,
-        injectors,
-        outlets,
     };
     if sim.dt == DtSpec::Auto {
         let auto = auto_step(&scene, sim.accuracy.unwrap_or_default())
             .map_err(|message| Invalid::new("simulation.dt", message))?;
-        scene.dt = auto.dt;
-        scene.integrator = auto.integrator;
+        scene.setup.dt = auto.dt;
+        scene.setup.integrator = auto.integrator;
         scene.auto_step = Some(auto);
     }
     // After `dt = "auto"` has chosen: its step is far inside the limit, and this says so.
-    check_stable_step(
-        scene.dt,
-        scene.integrator,
-        &scene.physics,
-        &scene.fluid,
-        &scene.kinds,
-        &scene.particles,
-        &scene.injectors,
-    )?;
+    check_stable_step(&scene.setup, &scene.particles)?;
     Ok(scene)
 }
 
@@ -203,14 +192,7 @@ fn build_flow(f: &FlowSpec) -> Result<Flow, Invalid> {
         ("mean_velocity", f.mean_velocity.is_some()),
         ("max_velocity", f.max_velocity.is_some()),
     ];
-    if let Some((extra, _)) = present.iter().find(|(name, here)| *here && !allowed.contains(name)) {
-        let keys = if allowed.is_empty() {
-            "it has no other keys".to_string()
-        } else {
-            format!("its keys are: {}", allowed.join(", "))
-        };
-        return Err(Invalid::new(k(extra), format!("not a key of {what}; {keys}")));
-    }
+    only("fluid.flow", &present, allowed, what)?;
     Ok(match f.flow {
         FlowType::Quiescent => Flow::Quiescent,
         FlowType::Uniform => {
@@ -297,17 +279,7 @@ fn build_kinds(specs: &[KindSpec]) -> Result<Vec<ParticleKind>, Invalid> {
     Ok(kinds)
 }
 
-/// A key the entry's `type` needs.
-fn required<T>(key: &str, v: Option<T>, what: &str) -> Result<T, Invalid> {
-    v.ok_or_else(|| Invalid::new(key, format!("missing: required for {what}")))
-}
-
-/// A key the entry's `type` does not have.
-fn forbid(key: &str, present: bool, what: &str) -> Result<(), Invalid> {
-    if present { Err(Invalid::new(key, format!("not a key of {what}"))) } else { Ok(()) }
-}
-
-fn poisson(key: &str, v: f64) -> Result<f64, Invalid> {
+pub(super) fn poisson(key: &str, v: f64) -> Result<f64, Invalid> {
     check::finite(key, v)?;
     if v > -1.0 && v <= 0.5 {
         Ok(v)
@@ -316,131 +288,14 @@ fn poisson(key: &str, v: f64) -> Result<f64, Invalid> {
     }
 }
 
-fn build_material(m: &MaterialSpec, key: &str) -> Result<WallMaterial, Invalid> {
-    let k = |f: &str| format!("{key}.material.{f}");
-    Ok(WallMaterial {
-        youngs_modulus: m.youngs_modulus.map(|v| check::positive(&k("youngs_modulus"), v)).transpose()?,
-        poisson_ratio: m.poisson_ratio.map(|v| poisson(&k("poisson_ratio"), v)).transpose()?,
-        restitution_max: m
-            .restitution_max
-            .map(|v| check::in_range(&k("restitution_max"), v, 0.0, 1.0))
-            .transpose()?,
-    })
-}
-
-fn build_walls(specs: &[WallSpec], base: &Path) -> Result<Vec<Wall>, Invalid> {
-    let mut walls: Vec<Wall> = Vec::new();
-    for (i, spec) in specs.iter().enumerate() {
-        let key = format!("walls[{i}]");
-        let k = |f: &str| format!("{key}.{f}");
-        let (allowed, what): (&[&str], &str) = match spec.shape {
-            WallType::Plane => (&["point", "normal"], "a plane"),
-            WallType::Box => (&["min", "max", "inside"], "a box"),
-            WallType::Cylinder => (&["base", "axis", "radius", "length"], "a cylinder"),
-            WallType::Mesh => (&["file", "scale", "translate"], "a mesh"),
-            WallType::Annulus => (
-                &["center", "normal", "inner_radius", "outer_radius", "cone_height", "segments"],
-                "an annulus",
-            ),
-        };
-        if let Some(extra) = spec.present().into_iter().find(|f| !allowed.contains(f)) {
-            return Err(Invalid::new(
-                k(extra),
-                format!("not a key of {what}; its keys are: {}", allowed.join(", ")),
-            ));
-        }
-        let need = |f: &str, v: Option<[f64; 3]>| required(&k(f), v, what);
-        let shape = match spec.shape {
-            WallType::Plane => Shape::Plane(Plane {
-                point: check::vector(&k("point"), need("point", spec.point)?)?,
-                normal: check::direction(&k("normal"), need("normal", spec.normal)?)?,
-            }),
-            WallType::Box => {
-                let (min, max) = (need("min", spec.min)?, need("max", spec.max)?);
-                let (lo, hi) = (check::vector(&k("min"), min)?, check::vector(&k("max"), max)?);
-                if !lo.cmplt(hi).all() {
-                    return Err(Invalid::new(
-                        k("max"),
-                        format!("must exceed min on every axis, got min {min:?}, max {max:?}"),
-                    ));
-                }
-                let inside = required(
-                    &k("inside"),
-                    spec.inside,
-                    "a box (true: particles inside it; false: it is an obstacle)",
-                )?;
-                Shape::Cuboid(Cuboid { min: lo, max: hi, inside })
-            }
-            WallType::Cylinder => {
-                let (lo, hi) = match spec.length {
-                    Some(l) => (0.0, check::positive(&k("length"), l)?),
-                    None => (f64::NEG_INFINITY, f64::INFINITY),
-                };
-                Shape::Cylinder(Cylinder {
-                    base: check::vector(&k("base"), need("base", spec.base)?)?,
-                    axis: check::direction(&k("axis"), spec.axis.unwrap_or([0.0, 0.0, 1.0]))?,
-                    radius: check::positive(&k("radius"), required(&k("radius"), spec.radius, what)?)?,
-                    lo,
-                    hi,
-                })
-            }
-            WallType::Mesh => {
-                let file = required(&k("file"), spec.file.clone(), what)?;
-                let scale = check::positive(&k("scale"), spec.scale.unwrap_or(1.0))?;
-                let translate = check::vector(&k("translate"), spec.translate.unwrap_or([0.0; 3]))?;
-                let mesh = load_mesh(&base.join(&file), scale, translate)
-                    .map_err(|e| Invalid::new(k("file"), e.to_string()))?;
-                Shape::Mesh(Box::new(mesh))
-            }
-            WallType::Annulus => {
-                let center = check::vector(&k("center"), need("center", spec.center)?)?;
-                let normal = check::direction(&k("normal"), need("normal", spec.normal)?)?;
-                let outer = required(&k("outer_radius"), spec.outer_radius, what)?;
-                let outer = check::positive(&k("outer_radius"), outer)?;
-                let inner = check::non_negative(&k("inner_radius"), spec.inner_radius.unwrap_or(0.0))?;
-                if inner >= outer {
-                    return Err(Invalid::new(
-                        k("inner_radius"),
-                        format!("must be < outer_radius {outer}, got {inner}"),
-                    ));
-                }
-                let segments = spec.segments.unwrap_or(128);
-                if !(3..=100_000).contains(&segments) {
-                    return Err(Invalid::new(
-                        k("segments"),
-                        format!("must be between 3 and 100000, got {segments}"),
-                    ));
-                }
-                let cone_height = check::finite(&k("cone_height"), spec.cone_height.unwrap_or(0.0))?;
-                Shape::Mesh(Box::new(annulus_mesh(center, normal, inner, outer, cone_height, segments)))
-            }
-        };
-        let (name, material) = (&spec.name, &spec.material);
-        if name.trim().is_empty() {
-            return Err(Invalid::new(k("name"), "must not be empty"));
-        }
-        if walls.iter().any(|w| &w.name == name) {
-            return Err(Invalid::new(k("name"), format!("duplicate wall name \"{name}\"")));
-        }
-        walls.push(Wall { name: name.clone(), material: build_material(material, &key)?, shape });
-    }
-    Ok(walls)
-}
-
 /// An explicit integrator must be stable for the stiffest drag of the scene (`h λ` inside its
 /// real-axis stability interval, see [`super::stiffness`]); otherwise the error names the
 /// largest stable step and the exponential integrator, which is stable at any step.
-#[allow(clippy::too_many_arguments)]
-fn check_stable_step(
-    dt: f64,
-    integrator: IntegratorKind,
-    physics: &Physics,
-    fluid: &Fluid,
-    kinds: &[ParticleKind],
-    particles: &Particles,
-    injectors: &[Injector],
-) -> Result<(), Invalid> {
-    let Some(s) = stiffest_drag(physics, fluid, particles, injectors) else { return Ok(()) };
+fn check_stable_step(setup: &Setup, particles: &Particles) -> Result<(), Invalid> {
+    let Setup { dt, integrator, ref kinds, .. } = *setup;
+    let Some(s) = stiffest_drag(&setup.physics, &setup.fluid, particles, &setup.injectors) else {
+        return Ok(());
+    };
     let limit = integrator.largest_stable_step(s.rate);
     if dt < limit {
         return Ok(());

@@ -58,10 +58,35 @@ impl Invalid {
     }
 }
 
-/// Checks for numeric fields, each returning the value or an [`Invalid`] naming `key`.
+/// Checks of the scene's fields, each returning the value or an [`Invalid`] naming `key`.
 pub(crate) mod check {
     use super::Invalid;
     use glam::DVec3;
+
+    /// A key that the entry's `type` (`what`: "a plane", "a box injector region") needs.
+    pub fn required<T>(key: &str, v: Option<T>, what: &str) -> Result<T, Invalid> {
+        v.ok_or_else(|| Invalid::new(key, format!("missing: required for {what}")))
+    }
+
+    /// A key that the entry's `type` does not have.
+    pub fn forbid(key: &str, present: bool, what: &str) -> Result<(), Invalid> {
+        if present { Err(Invalid::new(key, format!("not a key of {what}"))) } else { Ok(()) }
+    }
+
+    /// Rejects the first key of the table at `key` that is present but not `allowed` for its
+    /// `type` (`what`), listing the allowed ones. The one check of every table whose keys
+    /// depend on its type (flows, walls, injector regions and sizes, outlets).
+    pub fn only(key: &str, present: &[(&str, bool)], allowed: &[&str], what: &str) -> Result<(), Invalid> {
+        let Some((extra, _)) = present.iter().find(|(name, here)| *here && !allowed.contains(name)) else {
+            return Ok(());
+        };
+        let keys = if allowed.is_empty() {
+            "it has no other keys".to_string()
+        } else {
+            format!("its keys are: {}", allowed.join(", "))
+        };
+        Err(Invalid::new(format!("{key}.{extra}"), format!("not a key of {what}; {keys}")))
+    }
 
     pub fn finite(key: &str, v: f64) -> Result<f64, Invalid> {
         if v.is_finite() { Ok(v) } else { Err(Invalid::new(key, format!("must be finite, got {v}"))) }

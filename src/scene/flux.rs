@@ -1,6 +1,7 @@
 //! `[[injectors]]` and `[[outlets]]`: validation and building.
 
-use super::error::{Invalid, check};
+use super::error::Invalid;
+use super::error::check::{self, only, required};
 use super::schema::*;
 use crate::particles::ParticleKind;
 use crate::pipeline::inject::{Injector, Region, SizeDistribution};
@@ -15,21 +16,6 @@ const MAX_INJECTED: f64 = 50_000_000.0;
 /// may lie from the centre of the distribution: beyond it the range holds so little of the
 /// distribution that redrawing until a size falls inside it would not end.
 const MAX_SIGMAS_AWAY: f64 = 4.0;
-
-fn required<T>(key: &str, v: Option<T>, what: &str) -> Result<T, Invalid> {
-    v.ok_or_else(|| Invalid::new(key, format!("missing: required for {what}")))
-}
-
-/// Rejects the first key present that `allowed` does not list.
-fn only(key: &str, present: &[(&str, bool)], allowed: &[&str], what: &str) -> Result<(), Invalid> {
-    match present.iter().find(|(name, here)| *here && !allowed.contains(name)) {
-        Some((extra, _)) => Err(Invalid::new(
-            format!("{key}.{extra}"),
-            format!("not a key of {what}; its keys are: {}", allowed.join(", ")),
-        )),
-        None => Ok(()),
-    }
-}
 
 fn name_of(key: &str, given: &Option<String>, default: String, taken: &[String]) -> Result<String, Invalid> {
     let name = given.clone().unwrap_or(default);
@@ -80,7 +66,7 @@ pub(super) fn build_injectors(
                 format!("asks for {total:.3e} particles over the run, more than {MAX_INJECTED:.0}"),
             ));
         }
-        out.push(Injector::new(name, kind, rate, region, diameter, velocity, start, stop, s.seed));
+        out.push(Injector { name, kind, rate, region, diameter, velocity, start, stop, seed: s.seed });
     }
     Ok(out)
 }
@@ -217,7 +203,7 @@ pub(super) fn build_outlets(specs: &[OutletSpec], walls: &[Wall]) -> Result<Vec<
                 OutletShape::Wall(index as u32)
             }
         };
-        out.push(Outlet::new(name, shape));
+        out.push(Outlet { name, shape });
     }
     Ok(out)
 }

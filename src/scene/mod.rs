@@ -11,20 +11,14 @@ mod flux;
 mod report;
 mod schema;
 pub mod stiffness;
+mod walls;
 
 pub use accuracy::{Accuracy, AutoStep};
 pub use error::SceneError;
 pub use report::{KindReport, kind_report, kind_reports, scene_sizes};
 
-use crate::contact::{BounceRule, ImpactLocation};
-use crate::effects::Physics;
-use crate::fluid::Fluid;
-use crate::integrate::IntegratorKind;
-use crate::particles::{ParticleKind, Particles};
-use crate::pipeline::Simulation;
-use crate::pipeline::inject::Injector;
-use crate::pipeline::outlets::Outlet;
-use crate::walls::Wall;
+use crate::particles::Particles;
+use crate::pipeline::{Setup, Simulation};
 use std::path::{Path, PathBuf};
 
 /// A loaded and validated scene, ready to become a [`Simulation`].
@@ -34,34 +28,17 @@ pub struct Scene {
     pub path: PathBuf,
     /// The file's text, kept so outputs can carry their inputs.
     pub source: String,
-    /// Time step `Δt` (s).
-    pub dt: f64,
     /// Simulated duration (s).
     pub duration: f64,
     /// Simulated time between output frames (s).
     pub output_interval: f64,
-    /// Time integrator.
-    pub integrator: IntegratorKind,
-    /// Where wall contacts are placed in time (`simulation.impact_location`).
-    pub impact_location: ImpactLocation,
     /// With `dt = "auto"`: what the accuracy setting chose, and why.
     pub auto_step: Option<AutoStep>,
-    /// Carrier fluid.
-    pub fluid: Fluid,
-    /// Particle kinds.
-    pub kinds: Vec<ParticleKind>,
-    /// Walls.
-    pub walls: Vec<Wall>,
-    /// The effects' physics.
-    pub physics: Physics,
-    /// Bounce parameters.
-    pub rule: BounceRule,
+    /// What the scene fixes: fluid, kinds, walls, effects, rules, time step and integrator,
+    /// injectors and outlets.
+    pub setup: Setup,
     /// Initial particles.
     pub particles: Particles,
-    /// Injectors (`[[injectors]]`), nothing injected yet.
-    pub injectors: Vec<Injector>,
-    /// Outlets (`[[outlets]]`).
-    pub outlets: Vec<Outlet>,
 }
 
 impl Scene {
@@ -89,19 +66,6 @@ impl Scene {
 
     /// The simulation at time 0.
     pub fn simulation(&self) -> Simulation {
-        let mut sim = Simulation::new(
-            self.particles.clone(),
-            self.kinds.clone(),
-            self.walls.clone(),
-            self.fluid.clone(),
-            self.physics.clone(),
-            self.rule,
-            self.integrator,
-            self.dt,
-        );
-        sim.impact_location = self.impact_location;
-        sim.injectors = self.injectors.clone();
-        sim.outlets = self.outlets.clone();
-        sim
+        Simulation::new(self.setup.clone(), self.particles.clone())
     }
 }

@@ -1,10 +1,10 @@
 //! What `wetbounce check` prints: the time scales and the bounce regime of each particle kind.
 
 use super::Scene;
+use crate::contact::Outcome;
 use crate::contact::wall_impact;
 use crate::correlations::{relaxation_time, terminal_velocity};
 use crate::effects::DragLawKind;
-use crate::pipeline::Outcome;
 use crate::pipeline::inject::SizeDistribution;
 use crate::walls::WallMaterial;
 use glam::DVec3;
@@ -55,7 +55,7 @@ pub fn scene_sizes(scene: &Scene) -> Vec<(u16, f64)> {
     for i in 0..scene.particles.len() {
         add(scene.particles.kind[i], scene.particles.diameter[i]);
     }
-    for inj in &scene.injectors {
+    for inj in &scene.setup.injectors {
         match inj.diameter {
             SizeDistribution::Fixed(d) => add(inj.kind, d),
             SizeDistribution::Uniform { min, max }
@@ -72,18 +72,19 @@ pub fn scene_sizes(scene: &Scene) -> Vec<(u16, f64)> {
 /// The report of a particle of kind `k` (index into the scene's kinds) and diameter `d` (m).
 /// The drag law is the scene's, Schiller–Naumann if the scene has no drag effect.
 pub fn kind_report(scene: &Scene, k: u16, d: f64) -> KindReport {
-    let fluid = &scene.fluid;
-    let law = scene.physics.drag.unwrap_or(DragLawKind::SchillerNaumann);
+    let fluid = &scene.setup.fluid;
+    let law = scene.setup.physics.drag.unwrap_or(DragLawKind::SchillerNaumann);
     let (material, wall) = scene
+        .setup
         .walls
         .first()
         .map_or((WallMaterial::default(), "rigid wall".to_string()), |w| (w.material, w.name.clone()));
-    let kind = &scene.kinds[k as usize];
+    let kind = &scene.setup.kinds[k as usize];
     let g = fluid.gravity.length();
     let tv = terminal_velocity(kind.density, fluid.density, d, fluid.viscosity, g, |re| law.factor(re));
     let impact =
-        wall_impact(kind, d, &material, fluid, &scene.rule, DVec3::new(0.0, 0.0, -tv.speed), DVec3::Z);
-    let c_m = scene.physics.added_mass_coefficient;
+        wall_impact(kind, d, &material, fluid, &scene.setup.rule, DVec3::new(0.0, 0.0, -tv.speed), DVec3::Z);
+    let c_m = scene.setup.physics.added_mass_coefficient;
     KindReport {
         kind: kind.name.clone(),
         diameter: d,

@@ -216,32 +216,27 @@ pub enum WallType {
 }
 
 impl WallSpec {
-    /// The geometry keys present in this entry, with their names.
-    pub fn present(&self) -> Vec<&'static str> {
-        let mut keys = Vec::new();
-        let mut note = |name: &'static str, here: bool| {
-            if here {
-                keys.push(name);
-            }
-        };
-        note("point", self.point.is_some());
-        note("normal", self.normal.is_some());
-        note("min", self.min.is_some());
-        note("max", self.max.is_some());
-        note("inside", self.inside.is_some());
-        note("base", self.base.is_some());
-        note("axis", self.axis.is_some());
-        note("radius", self.radius.is_some());
-        note("length", self.length.is_some());
-        note("file", self.file.is_some());
-        note("scale", self.scale.is_some());
-        note("translate", self.translate.is_some());
-        note("center", self.center.is_some());
-        note("inner_radius", self.inner_radius.is_some());
-        note("outer_radius", self.outer_radius.is_some());
-        note("segments", self.segments.is_some());
-        note("cone_height", self.cone_height.is_some());
-        keys
+    /// Each geometry key, and whether this entry has it.
+    pub fn present(&self) -> [(&'static str, bool); 17] {
+        [
+            ("point", self.point.is_some()),
+            ("normal", self.normal.is_some()),
+            ("min", self.min.is_some()),
+            ("max", self.max.is_some()),
+            ("inside", self.inside.is_some()),
+            ("base", self.base.is_some()),
+            ("axis", self.axis.is_some()),
+            ("radius", self.radius.is_some()),
+            ("length", self.length.is_some()),
+            ("file", self.file.is_some()),
+            ("scale", self.scale.is_some()),
+            ("translate", self.translate.is_some()),
+            ("center", self.center.is_some()),
+            ("inner_radius", self.inner_radius.is_some()),
+            ("outer_radius", self.outer_radius.is_some()),
+            ("segments", self.segments.is_some()),
+            ("cone_height", self.cone_height.is_some()),
+        ]
     }
 }
 

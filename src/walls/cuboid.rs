@@ -1,7 +1,7 @@
 //! Axis-aligned box, with the particles inside (a container) or outside (an obstacle).
 
-use super::{Crossing, Gap, Surface, boxes_overlap, convex_crossing, linear_crossing};
-use glam::DVec3;
+use super::{Crossing, Drawable, Gap, Solid, Surface, boxes_overlap, convex_crossing, linear_crossing};
+use glam::{DQuat, DVec3};
 
 /// An axis-aligned box from `min` to `max` (m).
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -99,6 +99,20 @@ impl Surface for Cuboid {
             if dist - r < within {
                 each(Gap { gap: dist - r, normal });
             }
+        }
+    }
+}
+
+impl Drawable for Cuboid {
+    fn bounds(&self) -> Option<(DVec3, DVec3)> {
+        Some((self.min, self.max))
+    }
+
+    fn solid(&self, _center: DVec3, _half: f64) -> Solid {
+        Solid::Cuboid {
+            center: 0.5 * (self.min + self.max),
+            size: self.max - self.min,
+            rotation: DQuat::IDENTITY,
         }
     }
 }

@@ -1,7 +1,7 @@
 //! The inside of a cylinder: a column wall, in closed form.
 
-use super::{Crossing, Gap, Surface};
-use glam::DVec3;
+use super::{Crossing, Drawable, Gap, Solid, Surface};
+use glam::{DQuat, DVec3};
 
 /// The lateral surface of a cylinder of `radius` around the axis through `base` along unit
 /// `axis`, between `base + lo·axis` and `base + hi·axis`; particles inside. Caps are separate
@@ -77,6 +77,25 @@ impl Surface for Cylinder {
         let reach = self.radius - r;
         let far = |c: DVec3| self.split(c).0.length_squared() >= reach * reach;
         far(c0) || far(c1)
+    }
+}
+
+impl Drawable for Cylinder {
+    fn bounds(&self) -> Option<(DVec3, DVec3)> {
+        None
+    }
+
+    /// An unbounded end stops where the picture's extent does.
+    fn solid(&self, center: DVec3, half: f64) -> Solid {
+        let mid = (center - self.base).dot(self.axis);
+        let lo = if self.lo.is_finite() { self.lo } else { mid - 2.0 * half };
+        let hi = if self.hi.is_finite() { self.hi } else { mid + 2.0 * half };
+        Solid::Cylinder {
+            center: self.base + 0.5 * (lo + hi) * self.axis,
+            radius: self.radius,
+            length: hi - lo,
+            rotation: DQuat::from_rotation_arc(DVec3::Z, self.axis),
+        }
     }
 }
 

@@ -1,6 +1,6 @@
 //! Triangle-mesh walls from STL (ASCII or binary) and OBJ files, through parry's `TriMesh`.
 
-use super::{Crossing, Gap, Surface, boxes_overlap};
+use super::{Crossing, Drawable, Gap, Solid, Surface, boxes_overlap};
 use glam::DVec3;
 use parry3d_f64::math::Pose;
 use parry3d_f64::query::{PointQuery, ShapeCastOptions, cast_shapes};
@@ -233,5 +233,18 @@ impl Surface for MeshWall {
     fn may_touch(&self, c0: DVec3, c1: DVec3, r: f64) -> bool {
         let aabb = self.mesh.local_aabb();
         boxes_overlap(c0, c1, r, aabb.mins, aabb.maxs)
+    }
+}
+
+impl Drawable for MeshWall {
+    fn bounds(&self) -> Option<(DVec3, DVec3)> {
+        let v = self.mesh.vertices();
+        let lo = v.iter().fold(DVec3::splat(f64::INFINITY), |lo, v| lo.min(*v));
+        let hi = v.iter().fold(DVec3::splat(f64::NEG_INFINITY), |hi, v| hi.max(*v));
+        Some((lo, hi))
+    }
+
+    fn solid(&self, _center: DVec3, _half: f64) -> Solid {
+        Solid::Triangles { vertices: self.mesh.vertices().to_vec(), indices: self.mesh.indices().to_vec() }
     }
 }

@@ -15,12 +15,14 @@ mod cuboid;
 mod cylinder;
 mod mesh;
 mod plane;
+mod solid;
 
 pub use annulus::annulus_mesh;
 pub use cuboid::Cuboid;
 pub use cylinder::Cylinder;
 pub use mesh::{MeshError, MeshWall, load_mesh};
 pub use plane::Plane;
+pub use solid::Solid;
 
 use glam::DVec3;
 
@@ -34,19 +36,6 @@ pub struct WallMaterial {
     pub poisson_ratio: Option<f64>,
     /// `ε_max` of impacts on this wall, overriding the particle kind's.
     pub restitution_max: Option<f64>,
-}
-
-/// The geometry of a wall.
-#[derive(Debug, Clone)]
-pub enum Shape {
-    /// Infinite plane; particles on the side the normal points to.
-    Plane(Plane),
-    /// Axis-aligned box, particles inside or outside.
-    Cuboid(Cuboid),
-    /// Lateral surface of a cylinder, particles inside.
-    Cylinder(Cylinder),
-    /// Triangle mesh (either side).
-    Mesh(Box<MeshWall>),
 }
 
 /// A named static wall.
@@ -100,46 +89,81 @@ pub trait Surface {
     }
 }
 
-impl Surface for Shape {
-    #[inline(always)]
-    fn gap(&self, c: DVec3, r: f64) -> Gap {
-        match self {
-            Shape::Plane(s) => s.gap(c, r),
-            Shape::Cuboid(s) => s.gap(c, r),
-            Shape::Cylinder(s) => s.gap(c, r),
-            Shape::Mesh(s) => s.gap(c, r),
-        }
-    }
+/// What a picture of a wall needs: where a bounded shape is, and the solid that stands for it.
+pub trait Drawable {
+    /// The box `(min, max)` (m) that frames the shape in a picture, `None` when it does not
+    /// frame the scene (a plane, a cylinder: they are drawn to the size of what else is there).
+    fn bounds(&self) -> Option<(DVec3, DVec3)>;
+    /// The solid that represents the shape in a picture centred at `center` with half-size
+    /// `half` (m): an unbounded shape is cut to a patch there.
+    fn solid(&self, center: DVec3, half: f64) -> Solid;
+}
 
-    fn sweep(&self, c0: DVec3, c1: DVec3, r: f64) -> Option<Crossing> {
-        match self {
-            Shape::Plane(s) => s.sweep(c0, c1, r),
-            Shape::Cuboid(s) => s.sweep(c0, c1, r),
-            Shape::Cylinder(s) => s.sweep(c0, c1, r),
-            Shape::Mesh(s) => s.sweep(c0, c1, r),
+/// Lists the wall shapes once: the enum [`Shape`] and its dispatch of [`Surface`] and
+/// [`Drawable`] to each shape's own file are generated from the list.
+macro_rules! shapes {
+    ($($(#[$doc:meta])* $variant:ident($ty:ty)),* $(,)?) => {
+        /// The geometry of a wall.
+        #[derive(Debug, Clone)]
+        pub enum Shape {
+            $($(#[$doc])* $variant($ty),)*
         }
-    }
 
-    // Inlined into the particle pass: passing the two ends through memory to an outlined call
-    // stalled on store forwarding and took half of a dilute step.
-    #[inline(always)]
-    fn may_touch(&self, c0: DVec3, c1: DVec3, r: f64) -> bool {
-        match self {
-            Shape::Plane(s) => s.may_touch(c0, c1, r),
-            Shape::Cuboid(s) => s.may_touch(c0, c1, r),
-            Shape::Cylinder(s) => s.may_touch(c0, c1, r),
-            Shape::Mesh(s) => s.may_touch(c0, c1, r),
-        }
-    }
+        impl Surface for Shape {
+            #[inline(always)]
+            fn gap(&self, c: DVec3, r: f64) -> Gap {
+                match self {
+                    $(Shape::$variant(s) => s.gap(c, r),)*
+                }
+            }
 
-    fn touching(&self, c: DVec3, r: f64, within: f64, each: impl FnMut(Gap)) {
-        match self {
-            Shape::Plane(s) => s.touching(c, r, within, each),
-            Shape::Cuboid(s) => s.touching(c, r, within, each),
-            Shape::Cylinder(s) => s.touching(c, r, within, each),
-            Shape::Mesh(s) => s.touching(c, r, within, each),
+            fn sweep(&self, c0: DVec3, c1: DVec3, r: f64) -> Option<Crossing> {
+                match self {
+                    $(Shape::$variant(s) => s.sweep(c0, c1, r),)*
+                }
+            }
+
+            // Inlined into the particle pass: passing the two ends through memory to an
+            // outlined call stalled on store forwarding and took half of a dilute step.
+            #[inline(always)]
+            fn may_touch(&self, c0: DVec3, c1: DVec3, r: f64) -> bool {
+                match self {
+                    $(Shape::$variant(s) => s.may_touch(c0, c1, r),)*
+                }
+            }
+
+            fn touching(&self, c: DVec3, r: f64, within: f64, each: impl FnMut(Gap)) {
+                match self {
+                    $(Shape::$variant(s) => s.touching(c, r, within, each),)*
+                }
+            }
         }
-    }
+
+        impl Drawable for Shape {
+            fn bounds(&self) -> Option<(DVec3, DVec3)> {
+                match self {
+                    $(Shape::$variant(s) => s.bounds(),)*
+                }
+            }
+
+            fn solid(&self, center: DVec3, half: f64) -> Solid {
+                match self {
+                    $(Shape::$variant(s) => s.solid(center, half),)*
+                }
+            }
+        }
+    };
+}
+
+shapes! {
+    /// Infinite plane; particles on the side the normal points to.
+    Plane(Plane),
+    /// Axis-aligned box, particles inside or outside.
+    Cuboid(Cuboid),
+    /// Lateral surface of a cylinder, particles inside.
+    Cylinder(Cylinder),
+    /// Triangle mesh (either side); also the annulus baffles.
+    Mesh(Box<MeshWall>),
 }
 
 /// Broad phase for shapes whose gap is smallest at an end of a straight move (half-spaces,

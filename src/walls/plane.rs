@@ -1,7 +1,7 @@
 //! Infinite plane.
 
-use super::{Crossing, Gap, Surface, ends_touch, linear_crossing};
-use glam::DVec3;
+use super::{Crossing, Drawable, Gap, Solid, Surface, ends_touch, linear_crossing};
+use glam::{DQuat, DVec3};
 
 /// The plane through `point` with unit `normal`; particles live on the side `normal` points to.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -26,5 +26,23 @@ impl Surface for Plane {
     #[inline]
     fn may_touch(&self, c0: DVec3, c1: DVec3, r: f64) -> bool {
         ends_touch(self, c0, c1, r)
+    }
+}
+
+impl Drawable for Plane {
+    fn bounds(&self) -> Option<(DVec3, DVec3)> {
+        None
+    }
+
+    /// A thin square slab centred under the picture, on the wall's far side.
+    fn solid(&self, center: DVec3, half: f64) -> Solid {
+        let foot = center - (center - self.point).dot(self.normal) * self.normal;
+        let reach = 2.0 * half.max((center - foot).length());
+        let thickness = 1e-3 * reach;
+        Solid::Cuboid {
+            center: foot - 0.5 * thickness * self.normal,
+            size: DVec3::new(reach * 2.0, reach * 2.0, thickness),
+            rotation: DQuat::from_rotation_arc(DVec3::Z, self.normal),
+        }
     }
 }

@@ -34,11 +34,11 @@ pub fn shipped_with(name: &str, key: &str, value: &str) -> Scene {
 /// that slid 20 km from the origin is not 'inside' by 1e-12 m), with the particle and the wall.
 pub fn deepest_overlap(sim: &Simulation) -> (f64, usize, usize) {
     use wetbounce::walls::Surface;
-    let p = &sim.particles;
+    let p = &sim.world.particles;
     let mut worst = (f64::INFINITY, 0, 0);
     for i in 0..p.len() {
         let r = 0.5 * p.diameter[i];
-        for (w, wall) in sim.walls.iter().enumerate() {
+        for (w, wall) in sim.setup.walls.iter().enumerate() {
             let g = (wall.shape.gap(p.pos[i], r).gap + 1e-13 * p.pos[i].length()) / r;
             if g < worst.0 {
                 worst = (g, i, w);
@@ -54,10 +54,10 @@ pub fn assert_clear_of_walls(sim: &Simulation) {
     assert!(
         g >= -1e-9,
         "t = {}: particle {} at {:?} is inside wall \"{}\" by {:.3e} radii",
-        sim.time,
-        sim.particles.id[i],
-        sim.particles.pos[i],
-        sim.walls[w].name,
+        sim.world.time,
+        sim.world.particles.id[i],
+        sim.world.particles.pos[i],
+        sim.setup.walls[w].name,
         -g
     );
 }
@@ -66,10 +66,10 @@ pub fn assert_clear_of_walls(sim: &Simulation) {
 /// that runs through here is checked to give no kinetic energy (docs/stability.md, case 7).
 pub fn run_collect(sim: &mut Simulation, t_end: f64) -> Vec<wetbounce::ContactEvent> {
     let mut events = Vec::new();
-    while sim.time < t_end {
-        let next = (sim.time + 64.0 * sim.dt).min(t_end);
+    while sim.world.time < t_end {
+        let next = (sim.world.time + 64.0 * sim.setup.dt).min(t_end);
         sim.advance_to(next);
-        events.append(&mut sim.events);
+        events.append(&mut sim.record.events);
     }
     for e in &events {
         assert!(e.energy_not_gained(), "a contact gained kinetic energy: {e:?}");

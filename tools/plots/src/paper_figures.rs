@@ -262,8 +262,13 @@ fn fig6_data() -> Result<Fig6, String> {
     let mut out = Fig6 { samples: Vec::new(), impacts: Vec::new() };
     for k in 0..=1000 {
         sim.advance_to(k as f64 * 1e-3);
-        out.samples.push((sim.time, sim.particles.pos[0].z, sim.particles.vel[0].z, sim.particles.state[0]));
-        out.impacts.extend(sim.events.drain(..).map(|e| e.time));
+        out.samples.push((
+            sim.world.time,
+            sim.world.particles.pos[0].z,
+            sim.world.particles.vel[0].z,
+            sim.world.particles.state[0],
+        ));
+        out.impacts.extend(sim.record.events.drain(..).map(|e| e.time));
     }
     Ok(out)
 }
@@ -277,7 +282,7 @@ where
     // The first 0.6 s: the rise, both holds and the deposit (the drop then rests to 1 s).
     let color = |s: State| match s {
         State::Free => plotting::PALETTE[0],
-        State::Held => plotting::PALETTE[3],
+        State::Held | State::PairHeld => plotting::PALETTE[3],
         State::Resting => plotting::PALETTE[1],
     };
     type Panel<'a, DB> = (&'a DrawingArea<DB, Shift>, &'a str, fn(&Sample) -> f64, std::ops::Range<f64>);

@@ -53,6 +53,7 @@ fn load_panel(spec: &str) -> Result<Panel, String> {
     };
     let scene = Scene::load(scene_path).map_err(|e| e.to_string())?;
     let walls = scene
+        .setup
         .walls
         .iter()
         .filter_map(|w| match &w.shape {

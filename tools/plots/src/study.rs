@@ -354,29 +354,29 @@ pub fn run(case: Case, scene: &Scene, min_wall: f64) -> Run {
 fn run_once(case: Case, scene: &Scene) -> Run {
     let mut sim: Simulation = scene.simulation();
     // The column is studied in the dilute limit: drops pass through each other.
-    sim.pair_collisions = case != Case::Column;
+    sim.setup.pair_collisions = case != Case::Column;
     let single = case.impacts_compared() > 0 || case == Case::Stokes;
     let t_end = case.duration();
-    let dt = sim.dt;
-    let mut out = Run { integrator: Some(sim.integrator), dt, ..Run::default() };
+    let dt = sim.setup.dt;
+    let mut out = Run { integrator: Some(sim.setup.integrator), dt, ..Run::default() };
     if single {
         out.path.reserve((t_end / dt) as usize + 2);
-        out.path.push((0.0, sim.particles.pos[0], sim.particles.vel[0]));
+        out.path.push((0.0, sim.world.particles.pos[0], sim.world.particles.vel[0]));
     }
     let mut first = std::collections::BTreeMap::new();
     let clock = Instant::now();
-    while sim.time < t_end {
-        let remaining = t_end - sim.time;
+    while sim.world.time < t_end {
+        let remaining = t_end - sim.world.time;
         if remaining <= 1e-6 * dt {
             break;
         }
         let h = if remaining < 1.000_001 * dt { remaining } else { dt };
-        out.particle_seconds += sim.particles.len() as f64 * h;
+        out.particle_seconds += sim.world.particles.len() as f64 * h;
         sim.step(h);
         if single {
-            out.path.push((sim.time, sim.particles.pos[0], sim.particles.vel[0]));
+            out.path.push((sim.world.time, sim.world.particles.pos[0], sim.world.particles.vel[0]));
         }
-        for e in sim.events.drain(..) {
+        for e in sim.record.events.drain(..) {
             if let Other::Wall(_) = e.other {
                 if single && e.id == 0 {
                     out.impacts.push((e.time, e.normal_speed));
@@ -386,10 +386,10 @@ fn run_once(case: Case, scene: &Scene) -> Run {
         }
     }
     out.wall = clock.elapsed().as_secs_f64();
-    out.steps = sim.steps;
+    out.steps = sim.world.steps;
     out.first_impacts = first.into_iter().collect();
     let mut residence: Vec<(u32, f64)> =
-        sim.outlets.iter().flat_map(|o| o.removed.iter().map(|r| (r.id, r.residence_time))).collect();
+        sim.record.removed.iter().flat_map(|o| o.iter().map(|r| (r.id, r.residence_time))).collect();
     residence.sort_by_key(|r| r.0);
     out.residence = residence;
     out

@@ -1,7 +1,7 @@
 //! The run driver: steps a simulation to its end, feeding frames and events to the sinks.
 
-use super::Simulation;
 use crate::output::{OutputError, Sink};
+use crate::pipeline::Simulation;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::{Duration, Instant};
 
@@ -34,7 +34,7 @@ pub fn run(
 ) -> Result<RunReport, OutputError> {
     let start = Instant::now();
     let mut frames = 0;
-    let mut lost_reported = sim.lost.len();
+    let mut lost_reported = sim.record.lost.len();
     let result = (|| {
         let mut k: u64 = 0;
         loop {
@@ -42,25 +42,26 @@ pub fn run(
                 s.frame(sim)?;
             }
             frames += 1;
-            if sim.time >= duration {
+            if sim.world.time >= duration {
                 return Ok(false);
             }
             k += 1;
             let next = (k as f64 * output_interval).min(duration);
-            while sim.time < next {
+            while sim.world.time < next {
                 // One step at a time, so that Ctrl-C stops within a step; the last step of an
                 // interval lands on `next` exactly (`advance_to` shortens or stretches it).
-                let target = if next - sim.time <= 1.000_000_001 * sim.dt { next } else { sim.time + sim.dt };
+                let (t, dt) = (sim.world.time, sim.setup.dt);
+                let target = if next - t <= 1.000_000_001 * dt { next } else { t + dt };
                 sim.advance_to(target);
                 for s in sinks.iter_mut() {
                     s.step(sim)?;
                 }
                 flush_events(sim, sinks)?;
-                if sim.lost.len() > lost_reported {
+                if sim.record.lost.len() > lost_reported {
                     for s in sinks.iter_mut() {
-                        s.lost(sim, &sim.lost[lost_reported..])?;
+                        s.lost(sim, &sim.record.lost[lost_reported..])?;
                     }
-                    lost_reported = sim.lost.len();
+                    lost_reported = sim.record.lost.len();
                 }
                 if stop.load(Ordering::Relaxed) {
                     for s in sinks.iter_mut() {
@@ -75,18 +76,24 @@ pub fn run(
     let finished: Result<(), OutputError> = sinks.iter_mut().try_for_each(|s| s.finish());
     let interrupted = result?;
     finished?;
-    Ok(RunReport { time: sim.time, steps: sim.steps, wall_time: start.elapsed(), frames, interrupted })
+    Ok(RunReport {
+        time: sim.world.time,
+        steps: sim.world.steps,
+        wall_time: start.elapsed(),
+        frames,
+        interrupted,
+    })
 }
 
 fn flush_events(sim: &mut Simulation, sinks: &mut [&mut dyn Sink]) -> Result<(), OutputError> {
-    if sim.events.is_empty() {
+    if sim.record.events.is_empty() {
         return Ok(());
     }
-    let events = std::mem::take(&mut sim.events);
+    let events = std::mem::take(&mut sim.record.events);
     for s in sinks.iter_mut() {
         s.events(sim, &events)?;
     }
-    sim.events = events;
-    sim.events.clear();
+    sim.record.events = events;
+    sim.record.events.clear();
     Ok(())
 }

@@ -1,4 +1,4 @@
-//! Stage 3 (pairs): a Verlet neighbour list on a cell grid, rebuilt only when a particle has
+//! The broad phase's pairs: a Verlet neighbour list on a cell grid, rebuilt only when a particle has
 //! moved more than half the skin since the last build.
 //!
 //! How far particles moved is bounded without a per-particle test in the common step: the sum of
@@ -6,7 +6,7 @@
 //! when that bound reaches half the skin are the distances measured, particle by particle; the
 //! list is rebuilt only if one of them really does.
 
-use super::FastMap;
+use crate::contact::FastMap;
 use glam::{DVec3, IVec3};
 use rayon::prelude::*;
 

@@ -11,7 +11,7 @@
 //! each), far below any integrator's error; exponents `e` outside the table, zero, subnormals, infinities and NaN fall back
 //! to `powf`.
 
-use crate::lanes::{F64x4, Real, each};
+use super::lanes::{F64x4, Real, each};
 
 /// Smallest binary exponent in the table: below `2⁻⁸⁰ ≈ 8e-25` the call falls back to `powf`.
 const E_MIN: i64 = -80;

@@ -11,7 +11,7 @@
 //! a particle's result is bit for bit the same whichever path stepped it; the tests of
 //! `integrate` check that.
 
-use crate::correlations::FixedPower;
+use super::FixedPower;
 use glam::DVec3;
 use std::ops::{Add, Div, Mul, Sub};
 

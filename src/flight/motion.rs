@@ -4,7 +4,7 @@
 use crate::effects::{DragLaw, DragLawKind, NoDrag, SchillerNaumann, Stokes};
 use crate::fluid::{self, Flow, FlowField};
 use crate::integrate::{Euler, Exponential, ForceField, IntegratorKind, ParticleForce, Rk2, Rk4, Scheme};
-use crate::lanes::Vector;
+use crate::numeric::lanes::Vector;
 use std::marker::PhantomData;
 
 /// Free flight of one particle: its force field and the integrator.

@@ -1,13 +1,13 @@
 //! The bounce rule for two particles **[ext]** (PHYSICS.md §2, §4 and §5, pair extensions).
 
-use super::BounceRule;
+use super::wall::BounceRule;
+use crate::contact::Outcome;
 use crate::correlations::{
     ADDED_MASS_FAR, ADDED_MASS_WALL, Restitution, hertz_pair_contact_time, pair_stokes_number, restitution,
     sphere_volume, spring_pair_contact_time,
 };
 use crate::fluid::Fluid;
 use crate::particles::{Material, ParticleKind};
-use crate::pipeline::Outcome;
 use glam::DVec3;
 
 /// One particle of a colliding pair.

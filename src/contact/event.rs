@@ -77,12 +77,3 @@ impl ContactEvent {
 pub(crate) fn kinetic_energy(m: f64, v: glam::DVec3) -> f64 {
     if m.is_finite() { 0.5 * m * v.length_squared() } else { 0.0 }
 }
-
-/// A particle whose state became non-finite and was taken out of the simulation.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct LostParticle {
-    /// Simulated time at the end of the step where it was found (s).
-    pub time: f64,
-    /// Its id.
-    pub id: u32,
-}

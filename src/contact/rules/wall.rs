@@ -1,11 +1,11 @@
 //! The bounce rule of PHYSICS.md §5 for one particle on a wall.
 
+use crate::contact::Outcome;
 use crate::correlations::{
     Restitution, drop_contact_time, immersed_solid_contact_time, restitution, stokes_number,
 };
 use crate::fluid::Fluid;
 use crate::particles::{Material, ParticleKind};
-use crate::pipeline::Outcome;
 use crate::walls::WallMaterial;
 use glam::DVec3;
 

@@ -3,10 +3,86 @@
 //! approach again. Both are kept by projection, Gauss–Seidel over the contacts in index order
 //! (deterministic), with the walls the particles touch.
 
-use super::{Ctx, Motion, Scratch};
-use crate::particles::{NO_WALL, PairContact, Particles, State};
+use super::Ctx;
+use crate::flight::Motion;
+use crate::particles::{Next, Particles, State};
 use crate::walls::{Surface, push_out};
 use glam::DVec3;
+
+/// A lasting contact between particles `a < b` (indices): after an impact below `St_c`
+/// (resting: they may not approach) or during a hold (they move together) **[ext]**.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct LastingContact {
+    /// Lower particle index.
+    pub a: u32,
+    /// Higher particle index.
+    pub b: u32,
+    /// `Some` during a hold.
+    pub hold: Option<PairHold>,
+    /// Normal force the contact carried in the last step (N, pushing the pair apart): the
+    /// projection starts from it (warm start), so a bed carrying its own weight converges in a
+    /// few sweeps instead of one sweep per layer.
+    pub force: f64,
+}
+
+/// The release of a held pair.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct PairHold {
+    /// When the hold ends (s).
+    pub release_time: f64,
+    /// Relative normal speed at release `ε Vn` (m/s), separating.
+    pub normal_speed: f64,
+    /// Relative tangential velocity `v_a − v_b` at release, `e_t` times that at impact (m/s).
+    pub tangential: DVec3,
+}
+
+impl LastingContact {
+    /// A resting contact.
+    pub fn resting(a: u32, b: u32) -> Self {
+        LastingContact { a, b, hold: None, force: 0.0 }
+    }
+
+    /// A hold until `release_time`.
+    pub fn held(a: u32, b: u32, release_time: f64, normal_speed: f64, tangential: DVec3) -> Self {
+        LastingContact { a, b, hold: Some(PairHold { release_time, normal_speed, tangential }), force: 0.0 }
+    }
+}
+
+/// Keeps the particles with `keep[i]` in `p`, in order, and renumbers the lasting contacts
+/// (dropping those of removed particles).
+pub fn remove_particles(p: &mut Particles, keep: &[bool], lasting: &mut Vec<LastingContact>) {
+    let mut new_index = vec![u32::MAX; keep.len()];
+    let mut n = 0;
+    for (i, &k) in keep.iter().enumerate() {
+        if k {
+            new_index[i] = n;
+            n += 1;
+        }
+    }
+    p.retain(keep);
+    lasting.retain_mut(|c| {
+        let (a, b) = (new_index[c.a as usize], new_index[c.b as usize]);
+        (c.a, c.b) = (a, b);
+        a != u32::MAX && b != u32::MAX
+    });
+}
+
+/// One wall a moving particle touches, in the velocity sweeps: the particle's place among the
+/// involved, the wall's normal towards it, and the impulse accumulated so far (N s).
+struct WallRow {
+    k: usize,
+    n: DVec3,
+    impulse: f64,
+}
+
+/// One pair in the velocity sweeps: the two particles' places among the involved, the normal
+/// from `a` to `b`, and the impulse pushing them apart accumulated so far (N s).
+struct PairRow {
+    a: usize,
+    b: usize,
+    n: DVec3,
+    impulse: f64,
+}
 
 /// Gap beyond which a resting pair has separated (relative to the sum of radii): hysteresis,
 /// so that neighbours at rest do not break and re-make their contact every step.
@@ -22,22 +98,22 @@ const TOLERANCE: f64 = 1e-3;
 const VELOCITY_SWEEPS: usize = 30;
 const VELOCITY_TOLERANCE: f64 = 1e-2;
 
-/// Keeps every lasting contact at the end of the step (positions and velocities in `scratch`).
+/// Keeps every lasting contact at the end of the step (writes `next.pos` and `next.vel`).
 /// A neighbour pair found overlapping — left so by the events (a particle knocked off its course
 /// into a neighbour that was not a candidate), or by this projection pushing a particle into a
 /// neighbour — becomes a resting contact, and the projection runs again. Positions are
 /// projected first (without touching velocities, so that correcting a drift adds no kinetic
 /// energy), then velocities (`solve_velocities`). `h` is the step (s). Returns true when a
 /// particle's new state is not finite.
-pub(crate) fn run<M: Motion>(
+pub(crate) fn keep_lasting<M: Motion>(
     ctx: &Ctx<M>,
     p: &Particles,
-    scratch: &mut Scratch,
-    contacts: &mut Vec<PairContact>,
+    next: &mut Next,
+    contacts: &mut Vec<LastingContact>,
     neighbour_pairs: &[[u32; 2]],
     h: f64,
 ) -> bool {
-    let (x, v, state) = (&mut scratch.next_pos, &mut scratch.next_vel, &scratch.next_state);
+    let (x, v, state) = (&mut next.pos, &mut next.vel, &next.state);
     let reach_of = |a: u32, b: u32| 0.5 * (p.diameter[a as usize] + p.diameter[b as usize]);
     contacts.retain(|c| {
         c.hold.is_some()
@@ -45,23 +121,19 @@ pub(crate) fn run<M: Motion>(
     });
     // Inverse inertia; 0 for a particle held at a wall (immobile).
     let w = |i: usize| {
-        if state[i] == State::Held && p.wall[i] != NO_WALL {
-            0.0
-        } else {
-            1.0 / ctx.inertia_of(p.kind[i] as usize, p.diameter[i])
-        }
+        if state[i] == State::Held { 0.0 } else { 1.0 / ctx.inertia_of(p.kind[i] as usize, p.diameter[i]) }
     };
     let mut involved: Vec<usize> = Vec::new();
-    let mut known: super::FastSet<[u32; 2]> = contacts.iter().map(|c| [c.a, c.b]).collect();
+    let mut known: crate::contact::FastSet<[u32; 2]> = contacts.iter().map(|c| [c.a, c.b]).collect();
     for round in 0..ROUNDS {
         let before = contacts.len();
-        let found: Vec<PairContact> = neighbour_pairs
+        let found: Vec<LastingContact> = neighbour_pairs
             .iter()
             .filter(|&&[a, b]| {
                 (x[b as usize] - x[a as usize]).length() < reach_of(a, b) * (1.0 - TOLERANCE)
                     && !known.contains(&[a, b])
             })
-            .map(|&[a, b]| PairContact::resting(a, b))
+            .map(|&[a, b]| LastingContact::resting(a, b))
             .collect();
         known.extend(found.iter().map(|c| [c.a, c.b]));
         contacts.extend(found);
@@ -74,7 +146,7 @@ pub(crate) fn run<M: Motion>(
         // Bottom-up along gravity: a sweep then carries the support of the walls up through a
         // stack in one pass, instead of one layer per sweep.
         let up = -ctx.fluid.gravity.normalize_or(DVec3::NEG_Z);
-        let height = |c: &PairContact| x[c.a as usize].dot(up).min(x[c.b as usize].dot(up));
+        let height = |c: &LastingContact| x[c.a as usize].dot(up).min(x[c.b as usize].dot(up));
         contacts.sort_by(|c, d| height(c).total_cmp(&height(d)).then((c.a, c.b).cmp(&(d.a, d.b))));
         // Ascending and unique: by marking when contacts are many (sorting 10⁵ indices cost
         // more than a pass over the particles), by sorting when they are few.
@@ -95,7 +167,7 @@ pub(crate) fn run<M: Motion>(
         // only when the gap is positive, where `push_out` does nothing.)
         for &i in involved.iter().filter(|&&i| w(i) > 0.0) {
             let r = 0.5 * p.diameter[i];
-            for wall in ctx.walls {
+            for wall in ctx.walls() {
                 if wall.shape.may_touch(x[i], x[i], r) {
                     (x[i], v[i], _) = push_out(&wall.shape, x[i], v[i], r);
                 }
@@ -112,11 +184,11 @@ fn project_positions<M: Motion>(
     ctx: &Ctx<M>,
     p: &Particles,
     x: &mut [DVec3],
-    contacts: &[PairContact],
+    contacts: &[LastingContact],
     involved: &[usize],
     w: &impl Fn(usize) -> f64,
 ) {
-    let reach = |c: &PairContact| 0.5 * (p.diameter[c.a as usize] + p.diameter[c.b as usize]);
+    let reach = |c: &LastingContact| 0.5 * (p.diameter[c.a as usize] + p.diameter[c.b as usize]);
     // Inverse inertias looked up, not recomputed at every sweep.
     let place = places(p.len(), involved);
     let inv: Vec<f64> = involved.iter().map(|&i| w(i)).collect();
@@ -125,7 +197,7 @@ fn project_positions<M: Motion>(
         let mut worst: f64 = 0.0;
         for &i in involved.iter().filter(|&&i| w(i) > 0.0) {
             let r = 0.5 * p.diameter[i];
-            for wall in ctx.walls {
+            for wall in ctx.walls() {
                 // False only when the gap is positive (then there is nothing to do).
                 if !wall.shape.may_touch(x[i], x[i], r) {
                     continue;
@@ -204,7 +276,7 @@ fn solve_velocities<M: Motion>(
     p: &Particles,
     x: &[DVec3],
     v: &mut [DVec3],
-    contacts: &mut [PairContact],
+    contacts: &mut [LastingContact],
     involved: &[usize],
     w: &impl Fn(usize) -> f64,
     h: f64,
@@ -216,40 +288,39 @@ fn solve_velocities<M: Motion>(
     let local = |i: u32| place.of(i as usize);
     let inv: Vec<f64> = involved.iter().map(|&i| w(i)).collect();
     let mut vel: Vec<DVec3> = involved.iter().map(|&i| v[i]).collect();
-    // Each wall a moving particle touches: (particle, normal towards it, accumulated impulse).
-    let mut walls: Vec<(usize, DVec3, f64)> = Vec::new();
+    let mut walls: Vec<WallRow> = Vec::new();
     for (k, &i) in involved.iter().enumerate().filter(|&(k, _)| inv[k] > 0.0) {
         let r = 0.5 * p.diameter[i];
         // A sphere grown by twice the tolerance: clear of it, no part is within the tolerance.
         let near = |wall: &&crate::walls::Wall| wall.shape.may_touch(x[i], x[i], r * (1.0 + 2.0 * TOLERANCE));
-        for wall in ctx.walls.iter().filter(near) {
-            wall.shape.touching(x[i], r, TOLERANCE * r, |g| walls.push((k, g.normal, 0.0)));
+        for wall in ctx.walls().iter().filter(near) {
+            wall.shape
+                .touching(x[i], r, TOLERANCE * r, |g| walls.push(WallRow { k, n: g.normal, impulse: 0.0 }));
         }
     }
-    // Each pair: (a, b, normal from a to b, accumulated impulse pushing them apart, N s).
-    let mut rows: Vec<(usize, usize, DVec3, f64)> = contacts
+    let mut rows: Vec<PairRow> = contacts
         .iter()
         .map(|c| {
             let n = (x[c.b as usize] - x[c.a as usize]).normalize_or(DVec3::Z);
             let warm = if c.hold.is_none() { (c.force * h).max(0.0) } else { 0.0 };
-            (local(c.a), local(c.b), n, warm)
+            PairRow { a: local(c.a), b: local(c.b), n, impulse: warm }
         })
         .collect();
-    for &(a, b, n, j) in &rows {
+    for &PairRow { a, b, n, impulse: j } in &rows {
         vel[a] -= n * j * inv[a];
         vel[b] += n * j * inv[b];
     }
     let tolerance = VELOCITY_TOLERANCE * ctx.fluid.gravity.length() * h;
     for _ in 0..VELOCITY_SWEEPS {
         let mut worst: f64 = 0.0;
-        for (k, n, acc) in walls.iter_mut() {
+        for WallRow { k, n, impulse: acc } in walls.iter_mut() {
             let new = (*acc - vel[*k].dot(*n) / inv[*k]).max(0.0);
             let dv = (new - *acc) * inv[*k];
             vel[*k] += *n * dv;
             *acc = new;
             worst = worst.max(dv.abs());
         }
-        for (c, (a, b, n, acc)) in contacts.iter().zip(rows.iter_mut()) {
+        for (c, PairRow { a, b, n, impulse: acc }) in contacts.iter().zip(rows.iter_mut()) {
             let (a, b, n) = (*a, *b, *n);
             let (wa, wb) = (inv[a], inv[b]);
             if wa + wb == 0.0 {
@@ -277,14 +348,19 @@ fn solve_velocities<M: Motion>(
         v[i] = vel[k];
     }
     for (c, row) in contacts.iter_mut().zip(rows) {
-        c.force = row.3 / h;
+        c.force = row.impulse / h;
     }
 }
 
 /// Stage 1 for pairs: a held pair whose hold ends before `t1` gets its release velocities
 /// (relative normal speed `ε Vn` apart, tangential `e_t` times that at impact, momentum
 /// conserved); its particles are free again unless still held by another pair.
-pub(crate) fn release<M: Motion>(ctx: &Ctx<M>, p: &mut Particles, contacts: &mut Vec<PairContact>, t1: f64) {
+pub(crate) fn release_pairs<M: Motion>(
+    ctx: &Ctx<M>,
+    p: &mut Particles,
+    contacts: &mut Vec<LastingContact>,
+    t1: f64,
+) {
     let mut released = Vec::new();
     contacts.retain(|c| match c.hold {
         Some(h) if h.release_time < t1 => {
@@ -297,7 +373,7 @@ pub(crate) fn release<M: Motion>(ctx: &Ctx<M>, p: &mut Particles, contacts: &mut
         let hold = c.hold.expect("held");
         let (a, b) = (c.a as usize, c.b as usize);
         let inertia = |i: usize| {
-            if p.state[i] == State::Held && p.wall[i] != NO_WALL {
+            if p.state[i] == State::Held {
                 f64::INFINITY
             } else {
                 ctx.inertia_of(p.kind[i] as usize, p.diameter[i])
@@ -315,7 +391,7 @@ pub(crate) fn release<M: Motion>(ctx: &Ctx<M>, p: &mut Particles, contacts: &mut
         for i in [a, b] {
             let still_held =
                 contacts.iter().any(|o| o.hold.is_some() && (o.a as usize == i || o.b as usize == i));
-            if p.state[i] == State::Held && p.wall[i] == NO_WALL && !still_held {
+            if p.state[i] == State::PairHeld && !still_held {
                 p.state[i] = State::Free;
             }
         }

@@ -1,0 +1,9 @@
+//! The bounce rule of PHYSICS.md §5 (L06 §4): the Stokes number once per contact, the
+//! restitution, the contact time and the outcome — held, bounced or deposited — for a particle
+//! on a wall ([`wall`]) and for two particles ([`pair`], **[ext]**).
+
+mod pair;
+mod wall;
+
+pub use pair::{PairBody, PairImpact, pair_impact};
+pub use wall::{BounceRule, Impact, wall_impact};

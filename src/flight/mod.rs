@@ -1,0 +1,143 @@
+//! The per-particle flight kernel: one particle (or a lane group of four) moved over a stretch
+//! of a step under the scene's forces, with no contact in it.
+//!
+//! - [`Kernel`]: what a step's flight reads — the monomorphised [`Motion`] (integrator, drag
+//!   law and flow, picked once per step by [`dispatch`]), each kind's constant acceleration and
+//!   drag rate, and the walls a resting particle slides on;
+//! - [`Segment`] → [`Kernel::fly`] → [`Flight`]: a stretch of a path, from a start state to
+//!   where it ends, for a free particle (integrated), a resting one (slides along its wall) or
+//!   a held one (stays);
+//! - [`Kernel::free_flight`]: stage 2 of the step for one particle.
+//!
+//! This room knows no contact rule: the contact room above it asks it where a path goes.
+
+mod motion;
+
+pub use motion::{Motion, Mover, WithMotion, dispatch};
+
+use crate::effects::Physics;
+use crate::fluid::Fluid;
+use crate::integrate::{ForceField, Tangential};
+use crate::numeric::lanes::{DVec3x4, F64x4, LANES, each};
+use crate::particles::State;
+use crate::walls::{Surface, Wall, push_out};
+use glam::DVec3;
+
+/// Gap (in particle radii) beyond which a sliding particle has lost its wall: it went over a
+/// convex edge, or its neighbours lifted it. Below it the particle is put back on the wall. The
+/// same hysteresis as for lasting pair contacts, so that a particle in a bed does not leave and
+/// land again at every step.
+const FALL_AWAY: f64 = 1e-3;
+
+/// What the flight of one step reads: the motion compiled for the scene, and per particle kind
+/// the constant acceleration and the drag rate (built once per step, looked up per particle).
+pub struct Kernel<'a, M> {
+    /// Integrator, drag law and flow, as one type.
+    pub motion: &'a M,
+    /// The walls (a resting particle slides on one).
+    pub walls: &'a [Wall],
+    kind_accel: Vec<DVec3>,
+    kind_drag_rate: Vec<f64>,
+    re_rate: f64,
+}
+
+impl<'a, M: Motion> Kernel<'a, M> {
+    /// The kernel of a step: `motion` from [`dispatch`], the effects' `physics` per kind.
+    pub fn new(motion: &'a M, physics: &Physics, fluid: &Fluid, walls: &'a [Wall]) -> Self {
+        let n = physics.kinds.len();
+        let mu = fluid.viscosity;
+        Kernel {
+            motion,
+            walls,
+            kind_accel: (0..n).map(|k| physics.body_acceleration(k)).collect(),
+            kind_drag_rate: (0..n).map(|k| physics.drag_rate(k, fluid)).collect(),
+            re_rate: if mu > 0.0 { fluid.density / mu } else { 0.0 },
+        }
+    }
+
+    /// The force field of a particle of kind `k` and diameter `d` (m).
+    #[inline(always)]
+    pub fn field(&self, k: usize, d: f64) -> M::Field<DVec3> {
+        self.motion.field(self.kind_accel[k], self.kind_drag_rate[k] / (d * d), self.re_rate * d)
+    }
+
+    /// [`Kernel::field`] of a lane group: kinds `k`, diameters `d`.
+    #[inline(always)]
+    pub fn field_lanes(&self, k: [u16; LANES], d: F64x4) -> M::Field<DVec3x4> {
+        let accel = DVec3x4::from_array(each(k, |k| self.kind_accel[k as usize]));
+        let drag_rate = F64x4(each(k, |k| self.kind_drag_rate[k as usize]));
+        self.motion.field(accel, drag_rate / (d * d), d * self.re_rate)
+    }
+
+    /// Moves one segment on by `h` (s) under `field`, for a particle of radius `r` (m): free
+    /// flight, sliding along its wall (resting), or nothing (held at a wall).
+    #[inline]
+    pub fn fly(&self, field: &M::Field<DVec3>, r: f64, seg: &Segment, h: f64) -> Flight {
+        match seg.state {
+            State::Held => Flight { x: seg.x, v: seg.v, state: State::Held },
+            // A pair-held particle flies; the lasting-contact stage keeps the pair together.
+            State::Free | State::PairHeld => {
+                let (x, v) = self.motion.advance(field, seg.x, seg.v, h);
+                Flight { x, v, state: seg.state }
+            }
+            State::Resting => {
+                let wall = &self.walls[seg.wall as usize].shape;
+                let n = wall.gap(seg.x, r).normal;
+                let slide = Tangential { inner: field, n };
+                let (x, v) = self.motion.advance(&slide, seg.x, seg.v - seg.v.dot(n) * n, h);
+                let g = wall.gap(x, r);
+                if g.gap > FALL_AWAY * r {
+                    Flight { x, v, state: State::Free }
+                } else {
+                    let n1 = g.normal;
+                    let (x, v) = (x - g.gap * n1, v - v.dot(n1) * n1);
+                    // A resting particle ignores contacts with its own wall, so sliding along
+                    // one face must not take it through another face of that wall (into a box's
+                    // corner, across a mesh's crease): it stops there.
+                    let (x, v, _) = push_out(wall, x, v, r);
+                    Flight { x, v, state: State::Resting }
+                }
+            }
+        }
+    }
+
+    /// Stage 2 for one particle of kind `k` and diameter `d` (m): from `max(t0, t_release)` to
+    /// `t1`, starting at `(x, v)` in `state` on `wall`. A particle held at a wall stays.
+    #[inline(always)]
+    pub fn free_flight(&self, start: Segment, (k, d): (usize, f64), t1: f64) -> Flight {
+        self.fly(&self.field(k, d), 0.5 * d, &start, t1 - start.t)
+    }
+
+    /// The net acceleration (m/s²) of a particle of kind `k` and diameter `d` at `x` moving at
+    /// `v` (the force balance alone, no contact).
+    pub fn acceleration(&self, (k, d): (usize, f64), x: DVec3, v: DVec3) -> DVec3 {
+        self.field(k, d).eval(x, v).total(v)
+    }
+}
+
+/// A stretch of one particle's motion inside a step: from time `t` (s), state `(x, v)`, in
+/// `state` on `wall` ([`crate::particles::NO_WALL`] when none).
+#[derive(Debug, Clone, Copy)]
+pub struct Segment {
+    /// Start time (s).
+    pub t: f64,
+    /// Position at `t` (m).
+    pub x: DVec3,
+    /// Velocity at `t` (m/s).
+    pub v: DVec3,
+    /// Free, held, pair-held or resting.
+    pub state: State,
+    /// The wall of a held or resting particle.
+    pub wall: u32,
+}
+
+/// Where a segment ends.
+#[derive(Debug, Clone, Copy)]
+pub struct Flight {
+    /// Position (m).
+    pub x: DVec3,
+    /// Velocity (m/s).
+    pub v: DVec3,
+    /// Free, held, pair-held or resting (a resting particle that slid off its wall is free).
+    pub state: State,
+}
