@@ -1,4 +1,4 @@
-//! Results do not depend on the thread count (ARCHITECTURE.md rule 7): the same scene run with
+//! Results do not depend on the thread count (docs/architecture.md: determinism by construction): the same scene run with
 //! 1 and 2 threads, and twice, writes byte-identical output files (stability case 11,
 //! docs/stability.md).
 

@@ -12,7 +12,7 @@ use crate::numeric::lanes::{Real, Vector};
 /// midpoint state predicted by a half step, so the scheme is second order when the drag factor
 /// or the flow vary, exact for Stokes drag in a uniform flow whatever `h`, and unconditionally
 /// stable: a step much longer than the relaxation time lands on the terminal velocity
-/// (OpenFOAM's "analytical" scheme, ARCHITECTURE.md rule 2).
+/// (OpenFOAM's "analytical" scheme; docs/architecture.md).
 #[derive(Debug, Clone, Copy, Default)]
 pub struct Exponential;
 

@@ -23,7 +23,7 @@ use serde::Deserialize;
 use std::marker::PhantomData;
 
 /// A particle's acceleration at one state, linearised in its velocity `v`:
-/// `a = explicit + inv_tau (u − v)` (OpenFOAM's `forceSuSp` idea, ARCHITECTURE.md rule 2).
+/// `a = explicit + inv_tau (u − v)` (OpenFOAM's `forceSuSp` idea; docs/architecture.md).
 /// Of one particle (`V = DVec3`) or of a lane group of four ([`crate::numeric::lanes::DVec3x4`]).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Linear<V: Vector = DVec3> {
