@@ -1,4 +1,4 @@
-//! Prints PHYSICS.md §6: each number quoted in L06 beside what the engine's correlations give.
+//! Prints docs/physics.md §6: each number quoted in L06 beside what the engine's correlations give.
 //!
 //! Run: `cargo run --release --bin paper_table`.
 
@@ -9,7 +9,7 @@ fn main() {
     let water25 = (997.0, 0.89e-3);
     let water20 = (998.2, 1.002e-3);
     let sn = drag_factor_schiller_naumann;
-    println!("{:<58} {:>12} {:>12}", "case (PHYSICS.md §6)", "L06 quotes", "engine");
+    println!("{:<58} {:>12} {:>12}", "case (docs/physics.md §6)", "L06 quotes", "engine");
     let row = |case: &str, quoted: &str, engine: String| println!("{case:<58} {quoted:>12} {engine:>12}");
 
     let t = hertz_contact_time(15_250.0, 650e9, 0.23, 205e9, 0.295, 8e-3, 0.198);
@@ -43,6 +43,6 @@ fn main() {
     row("glass sphere 2.5 mm in water 20 °C: St", "296", format!("{st:.0}"));
     row("glass sphere 2.5 mm in water 20 °C: t_r (eq. 6)", "0.7 s", format!("{:.0} ms", tr * 1e3));
     println!(
-        "\nWhere the two columns differ, PHYSICS.md §6 explains why the formulas, not the quotes, are right."
+        "\nWhere the two columns differ, docs/physics.md §6 explains why the formulas, not the quotes, are right."
     );
 }

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Runs the LIGGGHTS peer (../shared/peers/liggghts/in.s1_dilute) and wetbounce on the same
+# Runs the LIGGGHTS peer (peers/liggghts/in.s1_dilute) and wetbounce on the same
 # dilute scene (scenes/bench_dilute.toml: same spheres, box, fluid, effects and step count),
 # one after the other in one run, with 1 and 2 ranks/threads, and prints the ratio; then
 # wetbounce with L06's heavier physics on the same beads (scenes/bench_paper.toml:
@@ -9,7 +9,7 @@
 #   bash tools/peer_ratio.sh             # STEPS=20000 by default
 set -euo pipefail
 HERE=$(cd "$(dirname "$0")/.." && pwd)
-PEERS=${PEERS:-$HERE/../shared/peers/liggghts}
+PEERS=${PEERS:-$HERE/peers/liggghts}
 STEPS=${STEPS:-20000}
 command -v liggghts >/dev/null || { echo "liggghts not found: apt-get install -y liggghts" >&2; exit 1; }
 cargo build --release --quiet --bin step_rate --manifest-path "$HERE/Cargo.toml"

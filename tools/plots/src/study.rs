@@ -296,7 +296,7 @@ diameter = 0.2e-3
 position = [0.0, 0.0, 0.0]
 "#;
 
-/// PHYSICS.md §1: from rest, with Stokes drag, `v(t) = V_t (1 − e^{−t/τ})`,
+/// docs/physics.md §1: from rest, with Stokes drag, `v(t) = V_t (1 − e^{−t/τ})`,
 /// `τ = (ρp + C_M ρ) d²/(18 μ)`; returns the height and vertical velocity.
 pub fn stokes_exact(t: f64) -> (f64, f64) {
     let tau = (STOKES_RHO_P + 0.5 * STOKES_RHO) * STOKES_D * STOKES_D / (18.0 * STOKES_MU);
