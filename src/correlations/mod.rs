@@ -8,6 +8,8 @@
 mod contact_time;
 mod drag;
 mod drag_stiffness;
+mod faddeeva;
+mod history;
 mod power;
 mod restitution;
 mod stokes;
@@ -20,6 +22,10 @@ pub use contact_time::{
 };
 pub use drag::{drag_factor_schiller_naumann, drag_factor_schiller_naumann_of_squared, reynolds_number};
 pub use drag_stiffness::schiller_naumann_stiffness_factor;
+pub use history::{
+    ExponentialSum, HistorySettling, VAN_HINSBERG_A, VAN_HINSBERG_T, basset_coefficient,
+    history_settling_velocity,
+};
 pub use power::FixedPower;
 pub use restitution::{Restitution, restitution};
 pub use stokes::{pair_stokes_number, relaxation_time, stokes_number};

@@ -115,8 +115,8 @@ fn bispherical_alpha(gap: f64) -> (f64, f64) {
     ((gap + sinh_a).ln_1p(), sinh_a)
 }
 
-/// Normal wall factor `λ⊥(ε)` of a sphere moving normal to a plane wall, exact: Brenner (1961),
-/// Chem. Eng. Sci. 16, 242–251, eq. 2.19 (PHYSICS.md §8). The Stokes drag is `λ⊥ · 6π μ a v`.
+/// Normal wall factor `λ⊥(ε)` of a sphere moving normal to a plane wall, exact: the series of
+/// Brenner (1961), Chem. Eng. Sci. 16, 242–251 (PHYSICS.md §8). The Stokes drag is `λ⊥ · 6π μ a v`.
 ///
 /// With `ε = h/a` (surface gap over radius, dimensionless) and `α = arccosh(1 + ε)`,
 ///
@@ -186,10 +186,10 @@ const NORMAL_FIT: [f64; 5] = [
 /// Lorentz). The `c_j` are a minimax (Lawson-weighted least-squares) fit of the relative error
 /// to [`brenner_normal_exact`] on 4001 points of `ε ∈ [1e-8, 1e8]`.
 ///
-/// **Accuracy**: maximum relative error against the exact series **1.97e-5** on a dense log
-/// grid of `ε` from 1e-6 to 1e3 (200 points per decade), and below that on `[1e-10, 1e-6]` and
-/// `[1e3, 1e12]`; outside the fit range the error shrinks towards both limits, which the form
-/// reproduces (relative error → 0 as `ε → 0` and as `ε → ∞`). Measured by the test
+/// **Accuracy**: maximum relative error against the exact series **1.97e-5** (near `ε = 0.5`)
+/// on a dense log grid of `ε` from 1e-6 to 1e3 (200 points per decade); below 2e-5 also on
+/// `[1e-10, 1e-6]` and `[1e3, 1e14]`, and tending to 0 as `ε → 0` and `ε → ∞`, where the form
+/// has the exact limits. Measured by the test
 /// `normal_fast_form_within_2e_5_of_brenner_series_for_all_gaps` (`cargo test --lib
 /// correlations::wall_hindrance`). Dimensionless; returns +∞ for `ε ≤ 0`.
 pub fn wall_factor_normal(gap: f64) -> f64 {
@@ -289,7 +289,7 @@ fn oneill_parallel_truncated(gap: f64, nmax: usize) -> f64 {
 }
 
 /// Faxén's far-field parallel factor (method of reflections; Faxén 1923, as given by Happel &
-/// Brenner 1965, eq. 7-4.28): `λ∥ ≈ 1 / (1 − (9/16)s + (1/8)s³ − (45/256)s⁴ − (1/16)s⁵)`,
+/// Brenner 1965, Low Reynolds Number Hydrodynamics, ch. 7): `λ∥ ≈ 1 / (1 − (9/16)s + (1/8)s³ − (45/256)s⁴ − (1/16)s⁵)`,
 /// `s = a/(h + a) = 1/(1 + ε)` (PHYSICS.md §8). Dimensionless.
 ///
 /// Against [`oneill_parallel_exact`]: relative error 2e-7 at `ε = 9`, 6e-5 at `ε = 2.76`, 1e-3
@@ -346,8 +346,8 @@ pub fn wall_factor_parallel(gap: f64) -> f64 {
 }
 
 /// Added-mass coefficient `C_M(ε)` of a sphere moving normal to a plane wall in potential flow,
-/// exact image series (PHYSICS.md §8; the sphere–wall limit of the two-sphere result of Hicks
-/// 1880, see Milne-Thomson, Theoretical Hydrodynamics, §16·60, and Kok 1995):
+/// exact image series of potential flow (PHYSICS.md §8; a sphere and its mirror image, the
+/// classical two-sphere problem):
 ///
 /// `C_M = 1/2 + (3/2) Σ_{n≥2} (sinh α / sinh nα)³`, `α = arccosh(1 + ε)`,
 ///
