@@ -96,7 +96,9 @@ impl ExponentialSum {
     /// Examples: `[1, 10⁴]` s at 1e-3 takes 27 exponentials (measured error 4.9e-4);
     /// `[1e-4, 10⁶]` s at 1e-5, 73 (5.5e-6); `[1e-3, 10³]` s at 1e-8, 119 (5.5e-9); test
     /// `inverse_sqrt_sum_meets_its_tolerance`, on 2000 points per decade.
-    /// Requires `0 < t_min < t_max` and `0 < rel_tol < 1`.
+    ///
+    /// # Panics
+    /// Unless `0 < t_min < t_max` and `0 < rel_tol < 1`.
     pub fn inverse_sqrt(t_min: f64, t_max: f64, rel_tol: f64) -> Self {
         assert!(0.0 < t_min && t_min < t_max && 0.0 < rel_tol && rel_tol < 1.0);
         let part = rel_tol / 3.0;
@@ -140,7 +142,8 @@ impl HistorySettling {
     /// The coefficients for a sphere of density `rho_p` and radius `radius` settling under
     /// gravity `g` (m/s², magnitude) through a fluid of density `rho` and viscosity `mu`, with
     /// buoyancy and the added mass `C_M∞ = 1/2`: `F = (ρp − ρ) Vp g`, `m_eff = (ρp + ρ/2) Vp`.
-    /// The velocity is positive downwards (negative for a rising, lighter sphere).
+    /// The velocity is positive downwards (negative for a rising, lighter sphere). Needs
+    /// `mu > 0` and `radius > 0` (a finite `τ`).
     pub fn sphere(rho_p: f64, rho: f64, mu: f64, radius: f64, g: f64) -> Self {
         let volume = 4.0 / 3.0 * PI * radius.powi(3);
         let m_eff = (rho_p + 0.5 * rho) * volume;
