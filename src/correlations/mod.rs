@@ -8,9 +8,12 @@
 mod contact_time;
 mod drag;
 mod drag_stiffness;
+mod faddeeva;
+mod history;
 mod restitution;
 mod stokes;
 mod terminal;
+mod wall_hindrance;
 
 pub use contact_time::{
     drop_contact_time, hertz_contact_time, hertz_pair_contact_time, immersed_solid_contact_time,
@@ -18,9 +21,18 @@ pub use contact_time::{
 };
 pub use drag::{drag_factor_schiller_naumann, drag_factor_schiller_naumann_of_squared, reynolds_number};
 pub use drag_stiffness::schiller_naumann_stiffness_factor;
+pub use history::{
+    ExponentialSum, HistorySettling, VAN_HINSBERG_A, VAN_HINSBERG_T, basset_coefficient,
+    history_settling_velocity,
+};
 pub use restitution::{Restitution, restitution};
 pub use stokes::{pair_stokes_number, relaxation_time, stokes_number};
 pub use terminal::{TerminalVelocity, terminal_velocity};
+pub use wall_hindrance::{
+    ADDED_MASS_CONTACT, NORMAL_GAP_CONSTANT, PARALLEL_GAP_CONSTANT, added_mass_normal,
+    added_mass_normal_exact, brenner_normal_exact, faxen_parallel, oneill_parallel_exact, wall_factor_normal,
+    wall_factor_parallel,
+};
 
 /// Added-mass coefficient of a sphere far from walls, `C_M∞ = 1/2` (L06 §2).
 pub const ADDED_MASS_FAR: f64 = 0.5;
