@@ -301,3 +301,113 @@ fn long_run_of_mutated_inputs() {
     run_scenes(cases);
     run_meshes(cases);
 }
+
+// ---- Classes of the adversarial findings of issue 13 (docs/stability.md) ----------------------
+
+/// Every `key = [a, b, c]` of three numbers in `text`: (byte range of the brackets, key name).
+fn vector_literals(text: &str) -> Vec<(std::ops::Range<usize>, String)> {
+    let mut out = Vec::new();
+    let mut line_start = 0;
+    for line in text.split_inclusive('\n') {
+        let code = line.split('#').next().unwrap_or("");
+        let mut from = 0;
+        while let Some(at) = code[from..].find("= [") {
+            let open = from + at + 2;
+            let Some(len) = code[open..].find(']') else { break };
+            let close = open + len + 1;
+            let inner = &code[open + 1..close - 1];
+            let key: String = code[..from + at]
+                .trim_end()
+                .chars()
+                .rev()
+                .take_while(|c| c.is_ascii_alphanumeric() || *c == '_')
+                .collect::<Vec<_>>()
+                .into_iter()
+                .rev()
+                .collect();
+            let numbers = inner.split(',').filter(|t| t.trim().parse::<f64>().is_ok()).count();
+            if !inner.contains('[') && numbers == 3 && inner.split(',').count() == 3 && !key.is_empty() {
+                out.push((line_start + open..line_start + close, key));
+            }
+            from = close;
+        }
+        line_start += line.len();
+    }
+    out
+}
+
+/// What a vector may be replaced with that is not three numbers, and the message's detail.
+const NOT_THREE_NUMBERS: &[(&str, &str)] = &[
+    ("[]", "got 0 values"),
+    ("[1.0]", "got 1 value"),
+    ("[0.0, 1.0]", "got 2 values"),
+    ("[0.0, 0.0, 1.0, 99.0]", "got 4 values"),
+    ("[0.0, 0.0, 1.0, 99.0, 5]", "got 5 values"),
+    ("[0.0, 0.0, 1.0, 99.0, \"x\", true]", "got 6 values"),
+    ("[0.0, \"x\", 1.0]", "component 1 is a string"),
+    ("[true, 0.0, 1.0]", "component 0 is a boolean"),
+    ("[0.0, 0.0, [1.0]]", "component 2 is an array"),
+    ("[0.0, {}, 1.0]", "component 1 is a table"),
+    ("[0.0, 0.0, 1979-05-27]", "component 2 is a table or a date"),
+];
+
+/// Class of finding 6: every 3-vector key of every valid scene, given anything but three
+/// numbers (too few, too many, a string, a boolean, an array, a table, a date), is refused with
+/// an error naming that key and saying what was given — never truncated, never accepted.
+#[test]
+fn every_vector_key_given_anything_but_three_numbers_is_refused_naming_the_key() {
+    let mut checked = 0;
+    for (path, text) in sources() {
+        for (range, key) in vector_literals(&text) {
+            for (replacement, detail) in NOT_THREE_NUMBERS {
+                let mutated = format!("{}{replacement}{}", &text[..range.start], &text[range.end..]);
+                let e = match wetbounce::Scene::from_str(&mutated, &path) {
+                    Ok(_) => panic!("{}: {key} = {replacement} accepted", path.display()),
+                    Err(e) => e,
+                };
+                let message = e.to_string();
+                assert!(
+                    e.key() == key || e.key().ends_with(&format!(".{key}")),
+                    "{}: {key} = {replacement}: the error names {}: {message}",
+                    path.display(),
+                    e.key()
+                );
+                assert!(
+                    message.contains("must be 3 numbers [x, y, z]") && message.contains(detail),
+                    "{}: {key} = {replacement}: {message}",
+                    path.display()
+                );
+                checked += 1;
+            }
+        }
+    }
+    // The sources hold dozens of vectors (positions, normals, corners, gravity, flows, regions).
+    assert!(checked >= 40 * NOT_THREE_NUMBERS.len(), "only {checked} cases");
+}
+
+/// Class of finding 7 (overflow in directions): every direction of every valid scene (a normal,
+/// an axis) multiplied by 2^k, k from -1000 to 1000, gives the very same scene — never a zero
+/// normal, a flow switched off, or an error blaming another key. (Powers of two scale exactly,
+/// so the scenes must be equal bit for bit; `src/scene/error.rs` checks powers of ten.)
+#[test]
+fn every_direction_scaled_by_any_power_of_two_gives_the_same_scene() {
+    let mut checked = 0;
+    for (path, text) in sources() {
+        let Ok(original) = wetbounce::Scene::from_str(&text, &path) else { continue };
+        let shown = |s: &wetbounce::Scene| format!("{:?}{:?}", s.setup, s.particles);
+        let reference = shown(&original);
+        for (range, key) in vector_literals(&text).into_iter().filter(|(_, k)| k == "normal" || k == "axis") {
+            let v: Vec<f64> = text[range.start + 1..range.end - 1].split(',').map(|t| t.trim().parse().unwrap()).collect();
+            for k in [-1000, -600, -300, -1, 1, 300, 600, 1000] {
+                let f = 2f64.powi(k);
+                let scaled = format!("[{:e}, {:e}, {:e}]", v[0] * f, v[1] * f, v[2] * f);
+                let mutated = format!("{}{scaled}{}", &text[..range.start], &text[range.end..]);
+                let scene = wetbounce::Scene::from_str(&mutated, &path)
+                    .unwrap_or_else(|e| panic!("{}: {key} = {scaled}: {e}", path.display()));
+                assert!(shown(&scene) == reference, "{}: {key} = {scaled} changed the scene", path.display());
+                checked += 1;
+            }
+        }
+    }
+    assert!(checked >= 8 * 8, "only {checked} cases");
+}

@@ -3,6 +3,7 @@
 use super::Scene;
 use super::accuracy::auto_step;
 use super::error::check::{self, forbid, only, required};
+use super::error::fmt::{num, vec3};
 use super::error::{Invalid, SceneError};
 use super::schema::*;
 use super::stiffness::stiffest_drag;
@@ -62,7 +63,7 @@ pub(super) fn build(file: SceneFile, base: &Path, source: &str) -> Result<Scene,
             if let Some(a) = sim.accuracy {
                 return Err(Invalid::new(
                     "simulation.accuracy",
-                    format!("only with dt = \"auto\" (it chooses dt), got \"{}\" with dt = {dt}", a.name()),
+                    format!("only with dt = \"auto\" (it chooses dt), got \"{}\" with dt = {}", a.name(), num(dt)),
                 ));
             }
             dt
@@ -106,7 +107,7 @@ pub(super) fn build(file: SceneFile, base: &Path, source: &str) -> Result<Scene,
     if physics.drag.is_some() && fluid.viscosity <= 0.0 {
         return Err(Invalid::new(
             "fluid.viscosity",
-            format!("must be > 0 with the drag effect, got {}", fluid.viscosity),
+            format!("must be > 0 with the drag effect, got {}", num(fluid.viscosity)),
         ));
     }
 
@@ -129,7 +130,7 @@ pub(super) fn build(file: SceneFile, base: &Path, source: &str) -> Result<Scene,
             format!(
                 "must be > {EQ4_POLE:.3} with solid particles (the contact time of L06 eq. 4 \
                  diverges there), got {}",
-                rule.st_critical
+                num(rule.st_critical)
             ),
         ));
     }
@@ -201,7 +202,7 @@ fn build_flow(f: &FlowSpec) -> Result<Flow, Invalid> {
         }
         FlowType::Poiseuille => {
             let point = check::vector(&k("point"), required(&k("point"), f.point, what)?)?;
-            let axis = check::direction(&k("axis"), f.axis.unwrap_or([0.0, 0.0, 1.0]))?;
+            let axis = check::direction(&k("axis"), f.axis.unwrap_or(Vec3Spec([0.0, 0.0, 1.0])))?;
             let radius = check::positive(&k("radius"), required(&k("radius"), f.radius, what)?)?;
             let max_velocity = match (f.mean_velocity, f.max_velocity) {
                 (Some(mean), None) => 2.0 * check::finite(&k("mean_velocity"), mean)?,
@@ -284,7 +285,7 @@ pub(super) fn poisson(key: &str, v: f64) -> Result<f64, Invalid> {
     if v > -1.0 && v <= 0.5 {
         Ok(v)
     } else {
-        Err(Invalid::new(key, format!("must be in (-1, 0.5], got {v}")))
+        Err(Invalid::new(key, format!("must be in (-1, 0.5], got {}", num(v))))
     }
 }
 
@@ -303,16 +304,17 @@ fn check_stable_step(setup: &Setup, particles: &Particles) -> Result<(), Invalid
     Err(Invalid::new(
         "simulation.dt",
         format!(
-            "{dt} s is not below the largest stable step of the {} integrator, {} s \
+            "{} s is not below the largest stable step of the {} integrator, {} s \
              ({:.3} τ, τ = {:.3e} s the shortest drag relaxation time, linearised, of kind \"{}\" \
              at d = {} m and slip speed {:.3e} m/s); use a smaller dt, or integrator = \
              \"exponential\", which is stable at any dt",
+            num(dt),
             integrator.name(),
             round_down(limit),
             integrator.stability_interval(),
             1.0 / s.rate,
             kinds[s.kind].name,
-            s.diameter,
+            num(s.diameter),
             s.slip_speed,
         ),
     ))
@@ -335,8 +337,11 @@ fn check_clear_of_walls(origins: &fill::Origins, p: &Particles, walls: &[Wall]) 
                 return Err(Invalid::new(
                     fill::origin_key(origins, i),
                     format!(
-                        "particle at [{}, {}, {}] (d = {} m) starts inside wall \"{}\": it overlaps by {:.3e} m",
-                        x.x, x.y, x.z, p.diameter[i], wall.name, -g.gap
+                        "particle at {} (d = {} m) starts inside wall \"{}\": it overlaps by {:.3e} m",
+                        vec3(x.to_array()),
+                        num(p.diameter[i]),
+                        wall.name,
+                        -g.gap
                     ),
                 ));
             }

@@ -1,7 +1,8 @@
 //! Initial particles: an explicit list, lattices and seeded random fills.
 
+use super::error::fmt::{num, vec3};
 use super::error::{Invalid, check};
-use super::schema::SceneFile;
+use super::schema::{SceneFile, Vec3Spec};
 use crate::particles::{ParticleKind, Particles};
 use crate::walls::{Surface, Wall};
 use glam::{DVec3, IVec3};
@@ -51,7 +52,7 @@ pub(super) fn add_particles(
         if a < d {
             return Err(Invalid::new(
                 k("spacing"),
-                format!("must be >= diameter {d} so particles do not overlap, got {a}"),
+                format!("must be >= diameter {} so particles do not overlap, got {}", num(d), num(a)),
             ));
         }
         let v = check::vector(&k("velocity"), s.velocity)?;
@@ -90,7 +91,7 @@ pub(super) fn add_particles(
         if !lo.cmplt(hi).all() {
             return Err(Invalid::new(
                 k("max"),
-                format!("region is thinner than the diameter {d} on some axis"),
+                format!("region is thinner than the diameter {} on some axis", num(d)),
             ));
         }
         origins.push((p.len(), format!("random_fill[{i}]")));
@@ -103,12 +104,12 @@ pub(super) fn add_particles(
     Ok(origins)
 }
 
-fn region(kmin: &str, kmax: &str, min: [f64; 3], max: [f64; 3]) -> Result<(DVec3, DVec3), Invalid> {
+fn region(kmin: &str, kmax: &str, min: Vec3Spec, max: Vec3Spec) -> Result<(DVec3, DVec3), Invalid> {
     let (lo, hi) = (check::vector(kmin, min)?, check::vector(kmax, max)?);
     if !lo.cmplt(hi).all() {
         return Err(Invalid::new(
             kmax,
-            format!("must exceed min on every axis, got min {min:?}, max {max:?}"),
+            format!("must exceed min on every axis, got min {}, max {}", vec3(min.0), vec3(max.0)),
         ));
     }
     Ok((lo, hi))

@@ -1,6 +1,7 @@
 //! `[[injectors]]` and `[[outlets]]`: validation and building.
 
 use super::error::Invalid;
+use super::error::fmt::{num, vec3};
 use super::error::check::{self, only, required};
 use super::schema::*;
 use crate::particles::ParticleKind;
@@ -54,7 +55,7 @@ pub(super) fn build_injectors(
             Some(t) => {
                 check::finite(&k("stop"), t)?;
                 if t <= start {
-                    return Err(Invalid::new(k("stop"), format!("must be > start {start}, got {t}")));
+                    return Err(Invalid::new(k("stop"), format!("must be > start {}, got {}", num(start), num(t))));
                 }
                 t
             }
@@ -97,7 +98,7 @@ fn build_region(key: &str, s: &RegionSpec) -> Result<Region, Invalid> {
             if !lo.cmplt(hi).all() {
                 return Err(Invalid::new(
                     k("max"),
-                    format!("must exceed min on every axis, got min {min:?}, max {max:?}"),
+                    format!("must exceed min on every axis, got min {}, max {}", vec3(min.0), vec3(max.0)),
                 ));
             }
             Ok(Region::Box { min: lo, max: hi })
@@ -120,7 +121,7 @@ fn build_size(key: &str, s: &SizeSpec) -> Result<SizeDistribution, Invalid> {
         let min = check::positive(&k("min"), required(&k("min"), s.min, what)?)?;
         let max = check::positive(&k("max"), required(&k("max"), s.max, what)?)?;
         if max <= min {
-            return Err(Invalid::new(k("max"), format!("must be > min {min}, got {max}")));
+            return Err(Invalid::new(k("max"), format!("must be > min {}, got {}", num(min), num(max))));
         }
         Ok((min, max))
     };

@@ -4,8 +4,9 @@
 
 use super::build::poisson;
 use super::error::Invalid;
+use super::error::fmt::{num, vec3};
 use super::error::check::{self, only, required};
-use super::schema::{MaterialSpec, WallSpec, WallType};
+use super::schema::{MaterialSpec, Vec3Spec, WallSpec, WallType};
 use crate::walls::{Cuboid, Cylinder, Plane, Shape, Wall, WallMaterial, annulus_mesh, load_mesh};
 use std::path::Path;
 
@@ -86,7 +87,7 @@ fn cuboid(e: &Entry) -> Result<Shape, Invalid> {
     if !lo.cmplt(hi).all() {
         return Err(Invalid::new(
             e.k("max"),
-            format!("must exceed min on every axis, got min {min:?}, max {max:?}"),
+            format!("must exceed min on every axis, got min {}, max {}", vec3(min.0), vec3(max.0)),
         ));
     }
     let inside =
@@ -102,7 +103,7 @@ fn cylinder(e: &Entry) -> Result<Shape, Invalid> {
     };
     Ok(Shape::Cylinder(Cylinder {
         base: check::vector(&e.k("base"), e.need("base", s.base)?)?,
-        axis: check::direction(&e.k("axis"), s.axis.unwrap_or([0.0, 0.0, 1.0]))?,
+        axis: check::direction(&e.k("axis"), s.axis.unwrap_or(Vec3Spec([0.0, 0.0, 1.0])))?,
         radius: check::positive(&e.k("radius"), e.need("radius", s.radius)?)?,
         lo,
         hi,
@@ -113,7 +114,7 @@ fn mesh(e: &Entry, base: &Path) -> Result<Shape, Invalid> {
     let s = e.spec;
     let file = e.need("file", s.file.clone())?;
     let scale = check::positive(&e.k("scale"), s.scale.unwrap_or(1.0))?;
-    let translate = check::vector(&e.k("translate"), s.translate.unwrap_or([0.0; 3]))?;
+    let translate = check::vector(&e.k("translate"), s.translate.unwrap_or_default())?;
     let mesh = load_mesh(&base.join(&file), scale, translate)
         .map_err(|err| Invalid::new(e.k("file"), err.to_string()))?;
     Ok(Shape::Mesh(Box::new(mesh)))
@@ -128,7 +129,7 @@ fn annulus(e: &Entry) -> Result<Shape, Invalid> {
     if inner >= outer {
         return Err(Invalid::new(
             e.k("inner_radius"),
-            format!("must be < outer_radius {outer}, got {inner}"),
+            format!("must be < outer_radius {}, got {}", num(outer), num(inner)),
         ));
     }
     let segments = s.segments.unwrap_or(128);
