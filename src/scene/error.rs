@@ -61,11 +61,50 @@ impl Invalid {
 /// How numbers are written in scene messages: one helper, so that no message prints a huge
 /// or tiny value digit by digit (`{}` writes 1e300 as 301 digits).
 pub(crate) mod fmt {
-    /// The shortest text that reads back as `v`: plain between 1e-4 and 1e7 (`0.001`, `2500`,
-    /// `-0.00089`), scientific outside (`1e300`, `6.3e10`, `1e-7`); `NaN`, `inf`, `-inf`.
+    /// The shortest text that reads back as `v`: plain from 1e-4 up to 1e4 (`0.001`, `2500`,
+    /// `-0.00089`), scientific outside (`1e300`, `1e4`, `6.3e10`, `1e-7`); `NaN`, `inf`, `-inf`.
     pub fn num(v: f64) -> String {
         let a = v.abs();
-        if v == 0.0 || !v.is_finite() || (1e-4..1e7).contains(&a) { format!("{v}") } else { format!("{v:e}") }
+        if v == 0.0 || !v.is_finite() || (1e-4..1e4).contains(&a) { format!("{v}") } else { format!("{v:e}") }
+    }
+
+    /// `text` with every number longer than 20 characters rewritten by [`num`]. Scene
+    /// messages write their own numbers with [`num`]; this is for the text they quote from
+    /// elsewhere, which cannot be told how to print: serde's (``invalid type: floating point
+    /// `1000…0.0`, expected a string``), a TOML value's, an effect's or a mesh loader's. It is
+    /// applied once, where a [`super::SceneError`] is made. A number written by [`num`] is left
+    /// as it is.
+    pub fn shorten_long_numbers(text: &str) -> String {
+        let b = text.as_bytes();
+        let mut out = String::with_capacity(text.len());
+        let mut i = 0;
+        while i < b.len() {
+            let starts_number = b[i].is_ascii_digit()
+                || (b[i] == b'-' && b.get(i + 1).is_some_and(u8::is_ascii_digit));
+            let inside_word = i > 0 && (b[i - 1].is_ascii_alphanumeric() || b[i - 1] == b'_' || b[i - 1] == b'.');
+            if !starts_number || inside_word {
+                let next = text[i..].chars().next().map_or(1, char::len_utf8);
+                out.push_str(&text[i..i + next]);
+                i += next;
+                continue;
+            }
+            let mut end = i + 1;
+            while end < b.len()
+                && (b[end].is_ascii_digit()
+                    || b[end] == b'.'
+                    || ((b[end] == b'e' || b[end] == b'E') && end + 1 < b.len())
+                    || ((b[end] == b'-' || b[end] == b'+') && matches!(b[end - 1], b'e' | b'E')))
+            {
+                end += 1;
+            }
+            let token = &text[i..end];
+            match token.parse::<f64>() {
+                Ok(v) if token.len() > 20 => out.push_str(&num(v)),
+                _ => out.push_str(token),
+            }
+            i = end;
+        }
+        out
     }
 
     /// `[x, y, z]`, each written by [`num`].
@@ -78,6 +117,7 @@ pub(crate) mod fmt {
 pub(crate) mod check {
     use super::Invalid;
     use super::fmt::{num, vec3};
+    use crate::scene::ranges::{COORDINATE, Range};
     use crate::scene::schema::Vec3Spec;
     use glam::DVec3;
 
@@ -129,6 +169,21 @@ pub(crate) mod check {
         }
     }
 
+    /// A value > 0 (the sign checked first, with the message of [`positive`]) within `range`.
+    pub fn positive_in(key: &str, v: f64, range: &Range) -> Result<f64, Invalid> {
+        range.check(key, positive(key, v)?)
+    }
+
+    /// A value >= 0 within `range` (0 itself only if the range allows it).
+    pub fn non_negative_in(key: &str, v: f64, range: &Range) -> Result<f64, Invalid> {
+        range.check(key, non_negative(key, v)?)
+    }
+
+    /// A finite value of any sign whose magnitude is within `range` (a coordinate, a speed).
+    pub fn signed_in(key: &str, v: f64, range: &Range) -> Result<f64, Invalid> {
+        range.check_magnitude(key, finite(key, v)?, &num(v))
+    }
+
     pub fn vector(key: &str, v: Vec3Spec) -> Result<DVec3, Invalid> {
         let d = DVec3::from(v.0);
         if d.is_finite() {
@@ -136,6 +191,36 @@ pub(crate) mod check {
         } else {
             Err(Invalid::new(key, format!("must have finite components, got {}", vec3(v.0))))
         }
+    }
+
+    /// A point (m): every coordinate within the range of coordinates.
+    pub fn point(key: &str, v: Vec3Spec) -> Result<DVec3, Invalid> {
+        let d = vector(key, v)?;
+        if COORDINATE.contains(d.abs().max_element()) {
+            Ok(d)
+        } else {
+            let message = format!(
+                "every coordinate must be within ±{} m (the range of coordinates), got {}",
+                num(COORDINATE.max),
+                vec3(v.0)
+            );
+            Err(Invalid::new(key, message))
+        }
+    }
+
+    /// A vector whose length is within `range` (a velocity, gravity). The length is computed
+    /// without overflow, so that `[1e200, 0, 0]` is reported as 1e200, not as infinite.
+    pub fn magnitude_in(key: &str, v: Vec3Spec, range: &Range) -> Result<DVec3, Invalid> {
+        let d = vector(key, v)?;
+        range.check_magnitude(key, length(d), &format!("{} (length {})", vec3(v.0), num(length(d))))?;
+        Ok(d)
+    }
+
+    /// The length of a finite vector, without overflow or underflow: scaled by its largest
+    /// component first.
+    pub fn length(d: DVec3) -> f64 {
+        let m = d.abs().max_element();
+        if m == 0.0 { 0.0 } else { m * (d / m).length() }
     }
 
     /// A direction: any finite non-zero vector, returned normalised.
@@ -164,7 +249,7 @@ pub(crate) mod check {
 #[cfg(test)]
 mod tests {
     use super::check::direction;
-    use super::fmt::{num, vec3};
+    use super::fmt::{num, shorten_long_numbers, vec3};
     use crate::scene::schema::Vec3Spec;
     use glam::DVec3;
     use proptest::prelude::*;
@@ -178,9 +263,19 @@ mod tests {
         assert_eq!(num(-2500.0), "-2500");
         assert_eq!(num(0.0), "0");
         assert_eq!(num(63e9), "6.3e10");
+        assert_eq!(num(9999.0), "9999");
+        assert_eq!(num(1e4), "1e4");
+        assert_eq!(num(15250.0), "1.525e4");
+        assert_eq!(num(0.0001), "0.0001");
         assert_eq!(num(f64::NAN), "NaN");
         assert_eq!(num(f64::NEG_INFINITY), "-inf");
         assert_eq!(vec3([0.0, 1e200, -0.5]), "[0, 1e200, -0.5]");
+        let serde = format!("invalid type: floating point `{:.1}`, expected a string", 1e300);
+        assert_eq!(shorten_long_numbers(&serde), "invalid type: floating point `1e300`, expected a string");
+        let effect = format!("must be finite and >= 0, got {} (line 26)", -1.7053473259841148e-5);
+        assert_eq!(shorten_long_numbers(&effect), "must be finite and >= 0, got -1.7053473259841148e-5 (line 26)");
+        let kept = "walls[2].normal: 0.30000000000000004 (line 12, column 3), rk4, 2.2250738585072014e-308, é";
+        assert_eq!(shorten_long_numbers(kept), kept);
     }
 
     proptest! {
