@@ -171,9 +171,15 @@ fn random_fill_of_six_times_its_volume_is_refused_at_once_with_the_fraction() {
 }
 
 #[test]
-fn output_interval_of_1e_minus_300_is_refused_with_the_frame_count() {
+fn output_interval_of_1e_minus_300_is_refused() {
     let e = refused(&base("").replace("output_interval = 1e-3", "output_interval = 1e-300"));
-    assert_error(&e, "simulation.output_interval", &["1e298 frames", "--allow-long-run"]);
+    assert_error(&e, "simulation.output_interval", &["1e-300"]);
+}
+
+#[test]
+fn run_of_1e9_frames_is_refused_with_the_frame_count() {
+    let e = refused(&base("").replace("duration = 0.01", "duration = 1.0").replace("output_interval = 1e-3", "output_interval = 1e-9"));
+    assert_error(&e, "simulation.output_interval", &["1e9 frames", "--allow-long-run"]);
 }
 
 #[test]
@@ -200,6 +206,27 @@ fn allow_long_run_flag_lets_check_accept_a_long_run() {
     assert!(!refused.status.success());
     let allowed = wetbounce().args(["check", "--allow-long-run"]).arg(&scene).output().unwrap();
     assert!(allowed.status.success(), "{}", String::from_utf8_lossy(&allowed.stderr));
+}
+
+#[test]
+fn output_interval_flag_giving_absurd_frames_is_refused_unless_allowed() {
+    let dir = tempfile::tempdir().unwrap();
+    let scene = dir.path().join("bead.toml");
+    std::fs::write(&scene, base("")).unwrap();
+    let run = |extra: &[&str]| {
+        wetbounce()
+            .arg("run")
+            .arg(&scene)
+            .args(["--quiet", "--formats", "csv", "--output-interval", "1e-12", "--out"])
+            .arg(dir.path().join("out"))
+            .args(extra)
+            .output()
+            .unwrap()
+    };
+    let refused = run(&[]);
+    let stderr = String::from_utf8_lossy(&refused.stderr);
+    assert!(!refused.status.success() && stderr.contains("--output-interval 1e-12: duration / output_interval is 1e10 frames"), "{stderr}");
+    assert!(!dir.path().join("out/trajectories.csv").exists(), "refused before writing");
 }
 
 #[test]

@@ -523,3 +523,41 @@ fn run_magnitudes(cases: u32) {
 fn any_float_of_any_magnitude_is_refused_with_a_short_message_or_steps_finitely() {
     run_magnitudes(400);
 }
+
+/// Class of finding 8 (absurd runs): for any duration, output interval and time step in the
+/// range of times, the scene is refused for its run length exactly when it asks for more than
+/// 10⁷ frames or 10¹⁰ steps, the message saying the count; with `allow_long_run` never.
+#[test]
+fn run_length_is_refused_exactly_beyond_the_frame_and_step_limits() {
+    use wetbounce::scene::{LoadOptions, MAX_FRAMES, MAX_STEPS};
+    let path = root().join("scenes/glass_bead.toml");
+    let text = std::fs::read_to_string(&path).unwrap();
+    let mut runner = TestRunner::new(Config { cases: 300, failure_persistence: None, ..Config::default() });
+    let exponent = -12.0f64..9.0;
+    let strategy = (exponent.clone(), exponent.clone(), exponent);
+    runner
+        .run(&strategy, |(d, o, h)| {
+            let (duration, interval, dt) = (10f64.powf(d), 10f64.powf(o), 10f64.powf(h));
+            let mutated = text
+                .replace("dt = 2e-4 ", &format!("dt = {dt:e} "))
+                .replace("duration = 1.0 ", &format!("duration = {duration:e} "))
+                .replace("output_interval = 1e-3 ", &format!("output_interval = {interval:e} "))
+                .replace("integrator = \"rk2\"", "integrator = \"exponential\"");
+            prop_assert!(mutated != text);
+            let too_long = duration / interval > MAX_FRAMES || duration / dt > MAX_STEPS;
+            match wetbounce::Scene::from_str(&mutated, &path) {
+                Ok(_) => prop_assert!(!too_long, "{duration:e} / {interval:e} / {dt:e} accepted"),
+                Err(e) => {
+                    let message = e.to_string();
+                    let about_length = message.contains(" frames, more than") || message.contains(" steps, more than");
+                    prop_assert_eq!(about_length, too_long, "{}", message);
+                }
+            }
+            let allowed = wetbounce::Scene::from_str_with(&mutated, &path, LoadOptions { allow_long_run: true });
+            if let Err(e) = allowed {
+                prop_assert!(!e.to_string().contains("more than the 1e"), "{e}");
+            }
+            Ok(())
+        })
+        .unwrap();
+}

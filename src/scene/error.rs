@@ -68,6 +68,19 @@ pub(crate) mod fmt {
         if v == 0.0 || !v.is_finite() || (1e-4..1e4).contains(&a) { format!("{v}") } else { format!("{v:e}") }
     }
 
+    /// A count or a ratio that need not be exact: as [`num`] below 1e4 (to 3 decimals), and
+    /// to three significant digits above (`1.2346e12` is `1.23e12`, `1e298` stays `1e298`).
+    pub fn approx(v: f64) -> String {
+        if !v.is_finite() || v.abs() < 1e4 {
+            return num((v * 1e3).round() / 1e3);
+        }
+        let s = format!("{v:.2e}");
+        // `1.00e298` → `1e298`, `1.20e12` → `1.2e12`.
+        let (mantissa, exponent) = s.split_once('e').unwrap_or((&s, "0"));
+        let mantissa = mantissa.trim_end_matches('0').trim_end_matches('.');
+        format!("{mantissa}e{exponent}")
+    }
+
     /// `text` with every number longer than 20 characters rewritten by [`num`]. Scene
     /// messages write their own numbers with [`num`]; this is for the text they quote from
     /// elsewhere, which cannot be told how to print: serde's (``invalid type: floating point
@@ -249,7 +262,7 @@ pub(crate) mod check {
 #[cfg(test)]
 mod tests {
     use super::check::direction;
-    use super::fmt::{num, shorten_long_numbers, vec3};
+    use super::fmt::{approx, num, shorten_long_numbers, vec3};
     use crate::scene::schema::Vec3Spec;
     use glam::DVec3;
     use proptest::prelude::*;
@@ -270,6 +283,10 @@ mod tests {
         assert_eq!(num(f64::NAN), "NaN");
         assert_eq!(num(f64::NEG_INFINITY), "-inf");
         assert_eq!(vec3([0.0, 1e200, -0.5]), "[0, 1e200, -0.5]");
+        assert_eq!(approx(0.01 / 1e-300), "1e298");
+        assert_eq!(approx(1.2346e12), "1.23e12");
+        assert_eq!(approx(12345.0), "1.23e4");
+        assert_eq!(approx(6543.21), "6543.21");
         let serde = format!("invalid type: floating point `{:.1}`, expected a string", 1e300);
         assert_eq!(shorten_long_numbers(&serde), "invalid type: floating point `1e300`, expected a string");
         let effect = format!("must be finite and >= 0, got {} (line 26)", -1.7053473259841148e-5);
