@@ -194,7 +194,8 @@ pub(crate) mod check {
 
     /// A finite value of any sign whose magnitude is within `range` (a coordinate, a speed).
     pub fn signed_in(key: &str, v: f64, range: &Range) -> Result<f64, Invalid> {
-        range.check_magnitude(key, finite(key, v)?, &num(v))
+        range.check_magnitude(key, finite(key, v)?.abs(), &num(v))?;
+        Ok(v)
     }
 
     pub fn vector(key: &str, v: Vec3Spec) -> Result<DVec3, Invalid> {
@@ -293,6 +294,15 @@ mod tests {
         assert_eq!(shorten_long_numbers(&effect), "must be finite and >= 0, got -1.7053473259841148e-5 (line 26)");
         let kept = "walls[2].normal: 0.30000000000000004 (line 12, column 3), rk4, 2.2250738585072014e-308, é";
         assert_eq!(shorten_long_numbers(kept), kept);
+    }
+
+    #[test]
+    fn a_signed_value_is_bounded_by_its_magnitude_whatever_its_sign() {
+        use super::check::signed_in;
+        use crate::scene::ranges::SPEED;
+        assert_eq!(signed_in("v", -0.008, &SPEED), Ok(-0.008));
+        assert_eq!(signed_in("v", 0.008, &SPEED), Ok(0.008));
+        assert!(signed_in("v", -2e4, &SPEED).is_err() && signed_in("v", 2e4, &SPEED).is_err());
     }
 
     proptest! {
