@@ -144,7 +144,7 @@ pub(super) fn build(file: SceneFile, base: &Path, source: &str, options: LoadOpt
     let mut particles = Particles::default();
     let origins = fill::add_particles(&file, &kinds, &walls, &mut particles)?;
     check_clear_of_walls(&origins, &particles, &walls)?;
-    let injectors = flux::build_injectors(&file.injectors, &kinds, duration)?;
+    let injectors = flux::build_injectors(&file.injectors, &kinds, &walls, duration)?;
     let outlets = flux::build_outlets(&file.outlets, &walls)?;
 
     let integrator = sim.integrator.unwrap_or(IntegratorKind::Rk2);

@@ -8,6 +8,7 @@ use super::schema::*;
 use crate::particles::ParticleKind;
 use crate::pipeline::inject::{Injector, Region, SizeDistribution};
 use crate::pipeline::outlets::{Outlet, OutletShape};
+use super::room::{Room, probe, region_points};
 use crate::walls::Wall;
 
 /// Most particles the injectors of a scene may be asked for over the run, as for the initial
@@ -33,6 +34,7 @@ fn name_of(key: &str, given: &Option<String>, default: String, taken: &[String])
 pub(super) fn build_injectors(
     specs: &[InjectorSpec],
     kinds: &[ParticleKind],
+    walls: &[Wall],
     duration: f64,
 ) -> Result<Vec<Injector>, Invalid> {
     let mut out: Vec<Injector> = Vec::new();
@@ -49,6 +51,7 @@ pub(super) fn build_injectors(
         let rate = check::positive(&k("rate"), s.rate)?;
         let region = build_region(&k("region"), &s.region)?;
         let diameter = build_size(&k("diameter"), &s.diameter)?;
+        check_room(&key, &region, &diameter, walls)?;
         let velocity = check::magnitude_in(&k("velocity"), s.velocity, &SPEED)?;
         let start = check::non_negative_in(&k("start"), s.start, &TIME_OR_ZERO)?;
         let stop = match s.stop {
@@ -71,6 +74,31 @@ pub(super) fn build_injectors(
         out.push(Injector { name, kind, rate, region, diameter, velocity, start, stop, seed: s.seed });
     }
     Ok(out)
+}
+
+/// Refuses an injector that can never place a particle: no point of its region is clear of the
+/// walls (the region lies inside or behind them), or none leaves room for its smallest
+/// particle (a tank or a slot narrower than it). An error, not a warning: such an injector
+/// skips every particle it is asked for, silently doing none of what the scene says. The
+/// region is sampled (`room::region_points`); a pocket of room the sample misses is one the
+/// injector's 100 draws per particle would almost always miss too.
+fn check_room(key: &str, region: &Region, diameter: &SizeDistribution, walls: &[Wall]) -> Result<(), Invalid> {
+    let smallest = match *diameter {
+        SizeDistribution::Fixed(d) => d,
+        SizeDistribution::Uniform { min, .. }
+        | SizeDistribution::Normal { min, .. }
+        | SizeDistribution::LogNormal { min, .. } => min,
+    };
+    let room = probe(&region_points(region, walls), 0.5 * smallest, walls);
+    let (field, what) = match room {
+        Room::Fits { .. } => return Ok(()),
+        Room::TooLarge { .. } => (
+            "diameter",
+            format!("a particle of d = {} m (the smallest it makes) fits nowhere in the region clear of the walls", num(smallest)),
+        ),
+        Room::Blocked { .. } => ("region", "no point of the region is clear of the walls".to_string()),
+    };
+    Err(Invalid::new(format!("{key}.{field}"), format!("this injector can never place a particle: {what}: {}", room.explain())))
 }
 
 fn build_region(key: &str, s: &RegionSpec) -> Result<Region, Invalid> {

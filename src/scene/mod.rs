@@ -10,6 +10,7 @@ mod fill;
 mod flux;
 mod ranges;
 mod report;
+mod room;
 pub mod run_length;
 mod schema;
 pub mod stiffness;
