@@ -189,13 +189,22 @@ fn run_scene(args: &RunArgs) -> Result<(String, ExitCode), String> {
         serde_json::to_string_pretty(&json).map_err(|e| format!("{}: {e}", json_path.display()))?;
     std::fs::write(&json_path, json_text + "\n").map_err(|e| format!("{}: {e}", json_path.display()))?;
     written.push(json_path);
+    // The step actually taken: `dt`, or the output interval when that is shorter (a step never
+    // crosses an output time).
+    let step = if output_interval < scene.setup.dt {
+        format!(
+            "dt = {output_interval} s (the output interval; the scene's dt = {} s is longer)",
+            scene.setup.dt
+        )
+    } else {
+        format!("dt = {} s", scene.setup.dt)
+    };
     let _ = writeln!(
         text,
-        "{}: {} particles, {} integrator, dt = {} s",
+        "{}: {} particles, {} integrator, {step}",
         path.display(),
         summary.total(),
         scene.setup.integrator.name(),
-        scene.setup.dt
     );
     let _ = writeln!(text, "{summary}");
     for lost in &sim.record.lost {

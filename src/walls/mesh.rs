@@ -1,7 +1,11 @@
 //! Triangle-mesh walls from STL (ASCII or binary) and OBJ files, through parry's `TriMesh`.
 
-use super::{Crossing, Drawable, Gap, Solid, Surface, boxes_overlap};
+use super::{Crossing, Drawable, Gap, Part, Solid, Surface, boxes_overlap};
+
+/// The part number of the gap out of a closed mesh for a centre inside it.
+const INSIDE: Part = Part::MAX;
 use glam::DVec3;
+use parry3d_f64::bounding_volume::Aabb;
 use parry3d_f64::math::Pose;
 use parry3d_f64::query::{PointQuery, ShapeCastOptions, cast_shapes};
 use parry3d_f64::shape::{Ball, FeatureId, TriMesh, TriMeshFlags};
@@ -233,6 +237,52 @@ impl Surface for MeshWall {
     fn may_touch(&self, c0: DVec3, c1: DVec3, r: f64) -> bool {
         let aabb = self.mesh.local_aabb();
         boxes_overlap(c0, c1, r, aabb.mins, aabb.maxs)
+    }
+
+    /// Every triangle within `within` of the sphere, each with its own gap and normal (found
+    /// through the mesh's bounding-volume hierarchy): at a crease a sphere touches two facets
+    /// at once, and the one it approaches is not always the nearest. A sphere whose centre is
+    /// inside a closed mesh gets the one gap out of the body.
+    fn touching(&self, c: DVec3, r: f64, within: f64, mut each: impl FnMut(Part, Gap)) {
+        let nearest = self.gap(c, r);
+        if self.closed && nearest.gap < -r {
+            if nearest.gap < within {
+                each(INSIDE, nearest);
+            }
+            return;
+        }
+        let reach = r + within.max(0.0);
+        let region = Aabb::from_half_extents(c, DVec3::splat(reach));
+        for i in self.mesh.bvh().intersect_aabb(&region) {
+            let triangle = self.mesh.triangle(i);
+            let d = c - triangle.project_local_point(c, true).point;
+            let dist = d.length();
+            if dist - r < within {
+                let normal =
+                    if dist > 1e-15 { d / dist } else { triangle.normal().unwrap_or(nearest.normal) };
+                each(i, Gap { gap: dist - r, normal });
+            }
+        }
+    }
+
+    /// The nearest triangle not in `skip` (through the mesh's hierarchy); a centre inside a
+    /// closed mesh keeps the gap out of the body.
+    fn gap_without(&self, c: DVec3, r: f64, skip: &[Part]) -> Gap {
+        let nearest = self.gap(c, r);
+        if skip.is_empty() || (self.closed && nearest.gap < -r) {
+            return nearest;
+        }
+        let best = self.mesh.bvh().project_point(c, f64::MAX, |i, _| {
+            (!skip.contains(&i)).then(|| self.mesh.triangle(i).project_local_point(c, true))
+        });
+        let Some((i, (_, projection))) = best else {
+            return Gap { gap: f64::INFINITY, normal: nearest.normal };
+        };
+        let d = c - projection.point;
+        let dist = d.length();
+        let normal =
+            if dist > 1e-15 { d / dist } else { self.mesh.triangle(i).normal().unwrap_or(nearest.normal) };
+        Gap { gap: dist - r, normal }
     }
 }
 
