@@ -9,6 +9,7 @@
 //! the stability tests only check that it never rises, which cannot see a loss.
 
 mod common;
+use common::fixture::BeadOnFloor;
 use glam::DVec3;
 use proptest::prelude::*;
 use wetbounce::{Outcome, Simulation};
@@ -16,33 +17,21 @@ use wetbounce::{Outcome, Simulation};
 const D: f64 = 2.5e-3;
 
 /// A steel bead in vacuum (no force: straight flights, St = ∞, ε = ε_max = 1) in `walls`.
+fn steel_in_vacuum(dt: f64, walls: &str) -> BeadOnFloor {
+    BeadOnFloor::new()
+        .dt(dt)
+        .vacuum()
+        .effects("")
+        .kind("steel")
+        .density(7800.0)
+        .elastic(2e11, 0.3)
+        .restitution_max(1.0)
+        .walls(walls)
+        .diameter(D)
+}
+
 fn vacuum(dt: f64, walls: &str, starts: &[(DVec3, DVec3)]) -> Simulation {
-    let mut text = format!(
-        r#"
-[simulation]
-dt = {dt:e}
-duration = 1.0
-output_interval = 1.0
-[fluid]
-density = 0.0
-viscosity = 0.0
-[[kinds]]
-name = "steel"
-type = "solid"
-density = 7800.0
-restitution_max = 1.0
-youngs_modulus = 2e11
-poisson_ratio = 0.3
-{walls}
-"#
-    );
-    for (x, v) in starts {
-        text += &format!(
-            "[[particles]]\nkind = \"steel\"\ndiameter = {D:e}\nposition = [{:e}, {:e}, {:e}]\nvelocity = [{:e}, {:e}, {:e}]\n",
-            x.x, x.y, x.z, v.x, v.y, v.z
-        );
-    }
-    common::scene(&text).simulation()
+    steel_in_vacuum(dt, walls).particles(starts).scene().simulation()
 }
 
 const BOX: &str = r#"
@@ -78,46 +67,29 @@ fn glass_bead_released_touching_a_side_face_rebounds_off_the_floor() {
     // L06's glass bead in water, released at rest touching the box's side face: it settles and
     // rebounds off the floor with falling St (six times), as beside no side face (finding 1:
     // one deposit at normal_speed 0).
-    let text = format!(
-        r#"
-[simulation]
-dt = 2e-4
-duration = 1.0
-output_interval = 0.01
-[fluid]
-density = 998.0
-viscosity = 1.0e-3
-[effects]
-gravity = {{}}
-buoyancy = {{}}
-drag = {{ law = "schiller_naumann" }}
-added_mass = {{}}
-[[kinds]]
-name = "glass"
-type = "solid"
-density = 2540.0
-restitution_max = 0.97
-youngs_modulus = 6.3e10
-poisson_ratio = 0.23
+    let box_wall = r#"
 [[walls]]
 name = "box"
 type = "box"
 min = [0.0, 0.0, 0.0]
 max = [0.05, 0.05, 0.1]
 inside = true
-material = {{ youngs_modulus = 6.3e10, poisson_ratio = 0.23 }}
-[[particles]]
-kind = "glass"
-diameter = {D:e}
-position = [{x:e}, 0.025, 0.05]
-"#,
-        x = 0.5 * D
-    );
+material = { youngs_modulus = 6.3e10, poisson_ratio = 0.23 }
+"#;
     let beside = |x: f64| {
-        let mut sim = common::scene(
-            &text.replace(&format!("position = [{:e}", 0.5 * D), &format!("position = [{x:e}")),
-        )
-        .simulation();
+        let mut sim = BeadOnFloor::new()
+            .dt(2e-4)
+            .output_interval(0.01)
+            .fluid(998.0, 1.0e-3)
+            .effects("gravity = {}\nbuoyancy = {}\ndrag = { law = \"schiller_naumann\" }\nadded_mass = {}")
+            .density(2540.0)
+            .elastic(6.3e10, 0.23)
+            .restitution_max(0.97)
+            .walls(box_wall)
+            .diameter(D)
+            .at([x, 0.025, 0.05])
+            .scene()
+            .simulation();
         common::run_collect(&mut sim, 1.0)
     };
     let touching = beside(0.5 * D);
@@ -141,36 +113,8 @@ fn bead_into_a_mesh_crease_keeps_its_speed() {
     let dir = tempfile::tempdir().unwrap();
     // Straight down into the crease's bottom line: it meets both facets at once.
     let v0 = DVec3::new(0.0, 0.0, -0.2);
-    let sim_text = |x: f64| {
-        format!(
-            r#"
-[simulation]
-dt = 1e-3
-duration = 1.0
-output_interval = 1.0
-[fluid]
-density = 0.0
-viscosity = 0.0
-[[kinds]]
-name = "steel"
-type = "solid"
-density = 7800.0
-restitution_max = 1.0
-youngs_modulus = 2e11
-poisson_ratio = 0.3
-[[walls]]
-name = "crease"
-type = "mesh"
-file = "crease.obj"
-[[particles]]
-kind = "steel"
-diameter = {D:e}
-position = [{x:e}, 0.0, 0.02]
-velocity = [{:e}, {:e}, {:e}]
-"#,
-            v0.x, v0.y, v0.z
-        )
-    };
+    let crease = "[[walls]]\nname = \"crease\"\ntype = \"mesh\"\nfile = \"crease.obj\"\n";
+    let sim_text = |x: f64| steel_in_vacuum(1e-3, crease).particle([x, 0.0, 0.02], v0).toml();
     std::fs::write(dir.path().join("crease.obj"), CREASE_OBJ).unwrap();
     for x in [0.0, 1e-4, -3e-4] {
         let path = dir.path().join("s.toml");

@@ -5,39 +5,27 @@
 //! The class test runs free fall over output intervals and time steps whose ratio spans 24
 //! orders of magnitude: every interval is at least one step, and the fall is exact.
 
+mod common;
+use common::fixture::BeadOnFloor;
 use std::sync::atomic::AtomicBool;
 use wetbounce::run::run;
 
 const G: f64 = 9.81;
 
 fn free_fall(dt: f64) -> wetbounce::Simulation {
-    let text = format!(
-        r#"
-[simulation]
-dt = {dt:e}
-duration = 1.0
-output_interval = 1.0
-integrator = "rk2"
-[fluid]
-density = 0.0
-viscosity = 0.0
-gravity = [0.0, 0.0, -{G}]
-[effects]
-gravity = {{}}
-[[kinds]]
-name = "steel"
-type = "solid"
-density = 7800.0
-youngs_modulus = 2e11
-poisson_ratio = 0.3
-[[particles]]
-kind = "steel"
-diameter = 1e-3
-position = [0.0, 0.0, 0.0]
-"#
-    );
-    wetbounce::Scene::from_str(&text, std::path::Path::new("free_fall.toml"))
-        .unwrap_or_else(|e| panic!("{e}"))
+    BeadOnFloor::new()
+        .dt(dt)
+        .integrator("rk2")
+        .vacuum()
+        .gravity([0.0, 0.0, -G])
+        .effects("gravity = {}")
+        .kind("steel")
+        .density(7800.0)
+        .elastic(2e11, 0.3)
+        .walls("")
+        .diameter(1e-3)
+        .at([0.0, 0.0, 0.0])
+        .scene()
         .simulation()
 }
 

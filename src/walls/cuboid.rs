@@ -104,6 +104,14 @@ impl Surface for Cuboid {
         }
     }
 
+    fn part_gap(&self, part: Part, c: DVec3, r: f64) -> Gap {
+        if !self.inside {
+            return self.gap(c, r);
+        }
+        let (dist, normal) = self.inner_faces(c)[part as usize % 6];
+        Gap { gap: dist - r, normal }
+    }
+
     fn gap_without(&self, c: DVec3, r: f64, skip: &[Part]) -> Gap {
         if !self.inside || skip.is_empty() {
             return self.gap(c, r);

@@ -265,6 +265,18 @@ impl Surface for MeshWall {
         }
     }
 
+    fn part_gap(&self, part: Part, c: DVec3, r: f64) -> Gap {
+        let nearest = self.gap(c, r);
+        if part == INSIDE || part >= self.mesh.num_triangles() as Part {
+            return nearest;
+        }
+        let triangle = self.mesh.triangle(part);
+        let d = c - triangle.project_local_point(c, true).point;
+        let dist = d.length();
+        let normal = if dist > 1e-15 { d / dist } else { triangle.normal().unwrap_or(nearest.normal) };
+        Gap { gap: dist - r, normal }
+    }
+
     /// The nearest triangle not in `skip` (through the mesh's hierarchy); a centre inside a
     /// closed mesh keeps the gap out of the body.
     fn gap_without(&self, c: DVec3, r: f64, skip: &[Part]) -> Gap {

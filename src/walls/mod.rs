@@ -87,6 +87,11 @@ pub trait Surface {
             each(0, g);
         }
     }
+    /// The gap to one part (as numbered by [`Surface::touching`]). By default the wall is one
+    /// part.
+    fn part_gap(&self, _part: Part, c: DVec3, r: f64) -> Gap {
+        self.gap(c, r)
+    }
     /// The gap to the wall without the parts in `skip` (as numbered by [`Surface::touching`]):
     /// where the contact of a path is located, the parts it slides along or leaves at its start
     /// must not hide the part it approaches. `+∞` when nothing is left. By default the wall is
@@ -145,6 +150,12 @@ macro_rules! shapes {
             fn touching(&self, c: DVec3, r: f64, within: f64, each: impl FnMut(Part, Gap)) {
                 match self {
                     $(Shape::$variant(s) => s.touching(c, r, within, each),)*
+                }
+            }
+
+            fn part_gap(&self, part: Part, c: DVec3, r: f64) -> Gap {
+                match self {
+                    $(Shape::$variant(s) => s.part_gap(part, c, r),)*
                 }
             }
 
@@ -247,17 +258,24 @@ pub fn contact_part(shape: &impl Surface, c: DVec3, r: f64, v: DVec3, within: f6
     best
 }
 
-/// The parts of `shape` that a sphere of radius `r` at `c`, moving at `v`, touches (within
-/// `within`, m) and slides along: its speed across them is round-off (1e-12 of its speed). Its
-/// gap to them stays zero, so locating its next contact must skip them
+/// The parts of `shape` that a sphere of radius `r` moving from `c0` (at velocity `v0`) to `c1`
+/// in a stretch of its path touches at its start (within `within`, m) and slides along: it
+/// does not move into them at the start (beyond round-off, 1e-12 of its speed), nor end
+/// inside them. Its gap to them stays zero, so locating its next contact must skip them
 /// ([`Surface::gap_without`]), or they hide the part it does approach (a bead falling along a
-/// box's side face onto the floor). Parts it leaves are kept: it may come back to them within
-/// the step (a weak rebound), and their gap opens meanwhile.
-pub fn parts_slid_along(shape: &impl Surface, c: DVec3, r: f64, v: DVec3, within: f64) -> Vec<Part> {
-    let round_off = 1e-12 * v.length();
+/// box's side face onto the floor). A part the path ends inside is kept: a bead at rest on a
+/// floor under gravity, or back after a weak rebound.
+pub fn parts_slid_along(
+    shape: &impl Surface,
+    (c0, c1): (DVec3, DVec3),
+    r: f64,
+    v0: DVec3,
+    within: f64,
+) -> Vec<Part> {
+    let round_off = 1e-12 * v0.length();
     let mut skip = Vec::new();
-    shape.touching(c, r, within, |part, g| {
-        if v.dot(g.normal).abs() <= round_off {
+    shape.touching(c0, r, within, |part, g| {
+        if v0.dot(g.normal) >= -round_off && shape.part_gap(part, c1, r).gap >= -within {
             skip.push(part);
         }
     });

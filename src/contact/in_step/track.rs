@@ -102,7 +102,7 @@ impl<'a, M: Motion> Ctx<'a, M> {
                 // The parts touched at the start and slid along are not where this contact is:
                 // their zero gap would hide the part approached.
                 let skip = if wall.shape.gap(seg.x, r).gap <= TOUCHING * r {
-                    parts_slid_along(&wall.shape, seg.x, r, seg.v, TOUCHING * r)
+                    parts_slid_along(&wall.shape, (seg.x, tr.end.x), r, seg.v, TOUCHING * r)
                 } else {
                     Vec::new()
                 };
