@@ -13,7 +13,8 @@ Geometry as in src/walls/annulus.rs: the outer rim lies in the plane z = center;
 (a doughnut's, at r = inner_radius) or the centre (a disc's, at r = 0) is cone_height above it,
 and the surface between them is a straight cone generator.
 
-Usage: python3 make_blockmesh.py [cell_size_m]   (default 0.0005)
+Usage: python3 make_blockmesh.py [cell_size_m [output_path]]
+       (defaults 0.0005 and case/system/blockMeshDict beside this script)
 Dependency-free; the generated dict is committed, so running the case needs no Python.
 """
 import math
@@ -21,7 +22,10 @@ import os
 import sys
 
 R = 0.025          # shell radius (m)
-Z_TOP = 0.42       # shell length (m); inlet at the top, outlet at z = 0
+Z_TOP = 0.42       # shell length (m); inlet at the top
+Z_OUT = -0.10      # outlet: the column is continued 0.1 m below the scene's z = 0, whose
+                   # plane the jet from doughnut_1 still crosses with backflow near the wall
+N_OUT = 60         # cells along z in that extension, growing downwards from the size at z = 0
 THICK = 0.001      # baffle thickness in the mesh (m), along z
 ANGLE = 5.0        # wedge angle (degrees)
 
@@ -55,7 +59,7 @@ def main():
     nr = [max(1, round((STATIONS[c + 1] - STATIONS[c]) / h)) for c in range(3)]
 
     # Levels: lists of z at each station, bottom to top.
-    levels = [[0.0] * 4]
+    levels = [[Z_OUT] * 4, [0.0] * 4]
     baffle_layer = {}  # layer index -> baffle
     for b in BAFFLES:
         mid = [surface_z(b, r) for r in STATIONS]
@@ -67,10 +71,21 @@ def main():
         assert all(b > a for a, b in zip(lo, hi)), (lo, hi)
     nlayers = len(levels) - 1
     nz = []
+    grading = []
     for j in range(nlayers):
         dz = max(levels[j + 1][i] - levels[j][i] for i in range(4))
         nz.append(max(2, math.ceil(dz / h - 1e-9)))
-
+        grading.append(1.0)
+    # The extension: N_OUT cells whose sizes grow geometrically downwards from h at z = 0.
+    nz[0] = N_OUT
+    lo, hi = 1.0, 2.0           # q = ratio of a cell to the one above it, by bisection
+    for _ in range(200):
+        q = 0.5 * (lo + hi)
+        if h * sum(q ** k for k in range(N_OUT)) > -Z_OUT:
+            hi = q
+        else:
+            lo = q
+    grading[0] = q ** -(N_OUT - 1)  # blockMesh: last (top) cell / first (bottom) cell
     a = math.radians(ANGLE / 2)
     verts = []
     index = {}
@@ -100,7 +115,7 @@ def main():
                 continue
             v = [vid(c, j, 0), vid(c + 1, j, 0), vid(c + 1, j, 1), vid(c, j, 1),
                  vid(c, j + 1, 0), vid(c + 1, j + 1, 0), vid(c + 1, j + 1, 1), vid(c, j + 1, 1)]
-            blocks.append((v, (nr[c], 1, nz[j])))
+            blocks.append((v, (nr[c], 1, nz[j]), grading[j]))
             faces = {  # outward-ordered hex faces
                 "xmin": (v[0], v[4], v[7], v[3]), "xmax": (v[1], v[2], v[6], v[5]),
                 "ymin": (v[0], v[1], v[5], v[4]), "ymax": (v[3], v[7], v[6], v[2]),
@@ -134,12 +149,12 @@ def main():
                "    object      blockMeshDict;\n}\n\n")
     out.append("// Wedge %g deg about the x-z plane, axis along z; radial cells %s; axial cells per layer %s\n"
                % (ANGLE, nr, nz))
-    out.append("// Cells: %d\n\nscale 1;\n\nvertices\n(\n" % sum(n[0] * n[2] for _, n in blocks))
+    out.append("// Cells: %d\n\nscale 1;\n\nvertices\n(\n" % sum(n[0] * n[2] for _, n, _ in blocks))
     for k, (x, y, z) in enumerate(verts):
         out.append("    (%.9g %.9g %.9g) // %d\n" % (x, y, z, k))
     out.append(");\n\nblocks\n(\n")
-    for v, n in blocks:
-        out.append("    hex (%s) (%d %d %d) simpleGrading (1 1 1)\n" % (" ".join(map(str, v)), *n))
+    for v, n, g in blocks:
+        out.append("    hex (%s) (%d %d %d) simpleGrading (1 1 %.9g)\n" % (" ".join(map(str, v)), *n, g))
     out.append(");\n\nedges\n(\n);\n\nboundary\n(\n")
     for name, faces in patches.items():
         out.append("    %s\n    {\n        type %s;\n        faces\n        (\n" % (name, types.get(name, "wall")))
@@ -147,12 +162,13 @@ def main():
             out.append("            (%s)\n" % " ".join(map(str, f)))
         out.append("        );\n    }\n")
     out.append(");\n\nmergePatchPairs\n(\n);\n")
-    path = os.path.join(os.path.dirname(os.path.abspath(__file__)), "case", "system", "blockMeshDict")
+    path = sys.argv[2] if len(sys.argv) > 2 else \
+        os.path.join(os.path.dirname(os.path.abspath(__file__)), "case", "system", "blockMeshDict")
     os.makedirs(os.path.dirname(path), exist_ok=True)
     with open(path, "w") as f:
         f.write("".join(out))
     print("wrote %s: %d blocks, %d cells, radial %s, axial %d" % (path, len(blocks),
-          sum(n[0] * n[2] for _, n in blocks), nr, sum(nz)))
+          sum(n[0] * n[2] for _, n, _ in blocks), nr, sum(nz)))
 
 
 if __name__ == "__main__":
