@@ -14,7 +14,7 @@ Geometry as in src/walls/annulus.rs: the outer rim lies in the plane z = center;
 and the surface between them is a straight cone generator.
 
 Usage: python3 make_blockmesh.py [cell_size_m [output_path]]
-       (defaults 0.0005 and case/system/blockMeshDict beside this script)
+       (defaults 0.00035 and case/system/blockMeshDict beside this script)
 Dependency-free; the generated dict is committed, so running the case needs no Python.
 """
 import math
@@ -55,7 +55,7 @@ def covered_columns(baffle):
 
 
 def main():
-    h = float(sys.argv[1]) if len(sys.argv) > 1 else 0.0005
+    h = float(sys.argv[1]) if len(sys.argv) > 1 else 0.00035
     nr = [max(1, round((STATIONS[c + 1] - STATIONS[c]) / h)) for c in range(3)]
 
     # Levels: lists of z at each station, bottom to top.
