@@ -220,7 +220,7 @@ def rasterize(tris, r0, dr, nr, z0, dz, nz):
     ur = [0.0] * (nr * nz)
     uz = [0.0] * (nr * nz)
     hit = bytearray(nr * nz)
-    eps = 1e-5  # the file's float32 coordinates are ~1e-9 m off (e.g. r = R - 5e-10)
+    eps = 1e-4  # the file's float32 coordinates are ~1e-8 m off (e.g. r = R - 5e-10)
     for a, b, c in tris:
         det = (b[0] - a[0]) * (c[1] - a[1]) - (c[0] - a[0]) * (b[1] - a[1])
         if abs(det) < 1e-20:
@@ -267,7 +267,8 @@ def write_vti(path, extent, origin, spacing, name, ncomp, values, ascii_out, com
         f.write('<VTKFile type="ImageData" version="1.0" byte_order="LittleEndian" header_type="UInt32">\n')
         f.write('  <ImageData WholeExtent="%s" Origin="%s" Spacing="%s">\n' % (
             ext, " ".join("%.9g" % v for v in origin), " ".join("%.9g" % v for v in spacing)))
-        f.write('    <Piece Extent="%s">\n      <PointData Vectors="%s">\n' % (ext, name))
+        f.write('    <Piece Extent="%s">\n      <PointData%s>\n'
+                % (ext, ' Vectors="%s"' % name if ncomp == 3 else ""))
         f.write('        <DataArray type="Float32" Name="%s" NumberOfComponents="%d" format="%s">\n'
                 % (name, ncomp, fmt))
         f.write(text)
@@ -293,6 +294,11 @@ def main():
     tris, walls = axisymmetric_triangles(vtk)
     zs = vtk.points[2::3]
     z0, z1 = max(min(zs), args.zmin), min(max(zs), args.zmax)
+    # The file's coordinates are float32: snap the ends to the requested ones when that close.
+    if abs(z0 - args.zmin) < 1e-6:
+        z0 = args.zmin
+    if abs(z1 - args.zmax) < 1e-6:
+        z1 = args.zmax
     R = args.radius
     types = {}
     for t in vtk.cell_types:
