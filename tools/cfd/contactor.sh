@@ -90,7 +90,8 @@ echo "SIMPLE iterations: $latest; OpenFOAM wall time $((end - start)) s"
 res=postProcessing/residuals/0/solverInfo.dat
 awk '!/^#/ {last=$0} END {split(last, f, "\t");
      printf "final initial residuals: Ux %s  Uy %s  Uz %s  p %s\n", f[3], f[6], f[9], f[14]}' "$res"
-grep -A5 "runTimeControl converged" log.simpleFoam | grep -E "field|satisfied|Stopping" | tail -5 || true
+awk '/runTimeControl converged output:/ {buf = ""} {buf = buf $0 "\n"} END {printf "%s", buf}' \
+    log.simpleFoam | grep -E "field|satisfied|Stopping" || true
 # The wedge's faces are flat: its cross-section is R^2 sin(5 deg)/2, so the whole column's
 # flow rate is the wedge's times 2 pi/sin(5 deg) = 72.0916; the target is
 # 0.008 pi 0.025^2 = 1.570796e-5 m3/s (2.178893e-7 through the wedge).
