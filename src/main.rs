@@ -171,6 +171,9 @@ fn run_scene(args: &RunArgs) -> Result<(String, ExitCode), String> {
     Ok((text, exit_status(&report, scene.duration, &signals, &errors)))
 }
 
+/// The sinks that write files.
+type Sinks = Vec<Box<dyn Sink>>;
+
 /// Creates every sink the formats ask for before the run starts, so that a bad output folder
 /// fails fast; when one cannot be created, those created before it are closed (their errors
 /// reported too) rather than dropped. Returns the sinks and the files they write.
@@ -180,9 +183,9 @@ fn create_sinks(
     scene: &Scene,
     out: &Path,
     stem: &str,
-) -> Result<(Vec<Box<dyn Sink>>, Vec<PathBuf>), String> {
+) -> Result<(Sinks, Vec<PathBuf>), String> {
     let mut written: Vec<PathBuf> = Vec::new();
-    let mut sinks: Vec<Box<dyn Sink>> = Vec::new();
+    let mut sinks: Sinks = Vec::new();
     let created = (|| -> Result<(), OutputError> {
         if formats.contains(&Format::Mcap) {
             let file = out.join(format!("{stem}.mcap"));
@@ -292,7 +295,9 @@ fn recover_mcap(input: &Path, output: Option<&Path>) -> Result<String, String> {
         return Err(format!("{}: the output would overwrite the input; name another file", output.display()));
     }
     let r = wetbounce::output::mcap::recover(input, &output).map_err(|e| e.to_string())?;
-    let last = r.last_log_time.map_or("no message".into(), |ns| format!("the last at t = {:.6} s", ns as f64 * 1e-9));
+    let last = r
+        .last_log_time
+        .map_or("no message".into(), |ns| format!("the last at t = {:.6} s", ns as f64 * 1e-9));
     let how = match &r.cut {
         Some(reason) => format!("the file is cut ({reason}); everything before the cut was read"),
         None => "the file was complete".into(),

@@ -36,9 +36,9 @@ fn errors_named(stderr: &str, out: &Path, cause: &str) -> Vec<String> {
     errors
         .iter()
         .map(|l| {
-            let rest = l.strip_prefix(&format!("error: {}/", out.display())).unwrap_or_else(|| {
-                panic!("the error does not start with a file of {}: {l}", out.display())
-            });
+            let rest = l
+                .strip_prefix(&format!("error: {}/", out.display()))
+                .unwrap_or_else(|| panic!("the error does not start with a file of {}: {l}", out.display()));
             let (file, message) = rest.split_once(": ").unwrap();
             assert!(message.starts_with(&format!("cannot write: {cause}")), "{l}");
             file.to_string()
@@ -184,7 +184,12 @@ exit $status"#;
         .env("SCENE", &scene)
         .output();
     let out = match out {
-        Ok(out) if out.status.code() != Some(99) && !String::from_utf8_lossy(&out.stderr).contains("unshare:") => out,
+        Ok(out)
+            if out.status.code() != Some(99)
+                && !String::from_utf8_lossy(&out.stderr).contains("unshare:") =>
+        {
+            out
+        }
         other => {
             eprintln!("skipped: cannot mount a tmpfs in a mount namespace here ({other:?})");
             return;

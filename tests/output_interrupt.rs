@@ -258,7 +258,8 @@ fn sigkill_at_a_random_moment_loses_at_most_the_last_frame_and_recover_reads_the
         if whole_frames >= 2 {
             let t = csv_frames[whole_frames - 2].0.parse::<f64>().unwrap();
             let due = ref_event_times.iter().filter(|&&e| e < t).count();
-            assert!(events.lines.len() - 1 >= due, "case {case}: {} of {due} events", events.lines.len() - 1);
+            let rows = events.lines.len() - 1;
+            assert!(rows >= due, "case {case}: {rows} of {due} events");
         }
     }
 }
@@ -297,8 +298,11 @@ fn recover_reads_every_whole_chunk_of_an_mcap_cut_anywhere() {
     assert!(out.status.success());
     let bytes = std::fs::read(dir.path().join("toluene_drop.mcap")).unwrap();
     let summary = mcap::Summary::read(&bytes).unwrap().unwrap();
-    let all: Vec<(u64, Vec<u8>)> =
-        mcap::MessageStream::new(&bytes).unwrap().map(|m| m.unwrap()).map(|m| (m.log_time, m.data.into_owned())).collect();
+    let all: Vec<(u64, Vec<u8>)> = mcap::MessageStream::new(&bytes)
+        .unwrap()
+        .map(|m| m.unwrap())
+        .map(|m| (m.log_time, m.data.into_owned()))
+        .collect();
     // One chunk per frame: 21 frames (0, 0.05, …, 1 s).
     assert_eq!(summary.chunk_indexes.len(), 21, "a chunk per frame");
     // Messages in the chunks that end at or before each cut.
@@ -311,7 +315,8 @@ fn recover_reads_every_whole_chunk_of_an_mcap_cut_anywhere() {
             .sum()
     };
     let mut rng = ChaCha8Rng::seed_from_u64(17);
-    let mut cuts: Vec<u64> = summary.chunk_indexes.iter().map(|c| c.chunk_start_offset + c.chunk_length).collect();
+    let mut cuts: Vec<u64> =
+        summary.chunk_indexes.iter().map(|c| c.chunk_start_offset + c.chunk_length).collect();
     cuts.extend((0..40).map(|_| rng.random_range(0..bytes.len() as u64)));
     cuts.extend([0, 4, 8, 20, bytes.len() as u64 - 1]);
     for (k, cut) in cuts.into_iter().enumerate() {
@@ -325,7 +330,10 @@ fn recover_reads_every_whole_chunk_of_an_mcap_cut_anywhere() {
         if !run.status.success() {
             // Only a file cut inside its first records (magic, header) is refused, naming it.
             assert!(cut < first_chunk, "cut at {cut}: {stderr}");
-            assert!(stderr.contains(&input.display().to_string()) && stderr.contains("not an MCAP"), "{stderr}");
+            assert!(
+                stderr.contains(&input.display().to_string()) && stderr.contains("not an MCAP"),
+                "{stderr}"
+            );
             continue;
         }
         let topics = read_closed_mcap(&output);

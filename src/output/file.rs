@@ -56,9 +56,7 @@ impl OutputFile {
         self.last_sync.set(Instant::now());
         match self.inner.get_ref().sync_data() {
             // A special file (a pipe, /dev/null) has nothing to sync: not an error.
-            Err(e) if matches!(e.kind(), io::ErrorKind::InvalidInput | io::ErrorKind::Unsupported) => {
-                Ok(())
-            }
+            Err(e) if matches!(e.kind(), io::ErrorKind::InvalidInput | io::ErrorKind::Unsupported) => Ok(()),
             r => r.map_err(|e| self.keep(e)),
         }
     }

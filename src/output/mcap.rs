@@ -153,10 +153,8 @@ impl McapSink {
         // tests) must not write into each other's files.
         let ctx = Context::new();
         let write_options = McapWriteOptions::new().compression(Some(McapCompression::Zstd));
-        let writer = McapWriter::with_options(write_options)
-            .context(&ctx)
-            .create(file)
-            .map_err(|e| err(&e))?;
+        let writer =
+            McapWriter::with_options(write_options).context(&ctx).create(file).map_err(|e| err(&e))?;
         let metadata = |pairs: &[(&str, &str)]| -> BTreeMap<String, String> {
             pairs.iter().map(|(k, v)| (k.to_string(), v.to_string())).collect()
         };

@@ -67,7 +67,8 @@ pub fn wait_bounded(mut child: Child, limit: Duration) -> Output {
 
 /// Sends `signal` (`TERM`, `HUP`, `INT`) to the child this test started.
 pub fn send(child: &Child, signal: &str) {
-    let status = Command::new("kill").args([&format!("-{signal}"), &child.id().to_string()]).status().unwrap();
+    let status =
+        Command::new("kill").args([&format!("-{signal}"), &child.id().to_string()]).status().unwrap();
     assert!(status.success(), "kill -{signal}");
 }
 

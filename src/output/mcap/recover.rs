@@ -79,10 +79,8 @@ pub fn recover(input: &Path, output: &Path) -> Result<Recovered, RecoverError> {
             .with_record_length_limit(usize::try_from(length.max(1 << 32)).unwrap_or(usize::MAX)),
     );
 
-    let out_file = OutputFile::create(output, 1 << 20).map_err(|e| RecoverError::Write {
-        path: output.to_path_buf(),
-        message: e.message,
-    })?;
+    let out_file = OutputFile::create(output, 1 << 20)
+        .map_err(|e| RecoverError::Write { path: output.to_path_buf(), message: e.message })?;
     let first_error = out_file.first_error();
     let write_err = |e: &dyn std::fmt::Display| RecoverError::Write {
         path: output.to_path_buf(),
