@@ -242,7 +242,9 @@ fn write_summary(
     let json_path = out.join("summary.json");
     let mut json = summary.to_json();
     json["scene"] = serde_json::Value::String(scene_path.display().to_string());
-    json["signal"] = signals.received().map_or(serde_json::Value::Null, |s| s.name.into());
+    // The signal that stopped the run: one that came after its end stopped nothing.
+    let signal = signals.received().filter(|_| report.interrupted);
+    json["signal"] = signal.map_or(serde_json::Value::Null, |s| s.name.into());
     json["output_errors"] = errors.iter().map(|e| serde_json::Value::String(e.to_string())).collect();
     let written_json = serde_json::to_string_pretty(&json)
         .map_err(|e| OutputError::write(&json_path, e))
@@ -291,9 +293,6 @@ fn recover_mcap(input: &Path, output: Option<&Path>) -> Result<String, String> {
             input.with_file_name(format!("{stem}.recovered.mcap"))
         }
     };
-    if output == input {
-        return Err(format!("{}: the output would overwrite the input; name another file", output.display()));
-    }
     let r = wetbounce::output::mcap::recover(input, &output).map_err(|e| e.to_string())?;
     let last = r
         .last_log_time

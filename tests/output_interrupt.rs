@@ -353,3 +353,22 @@ fn recover_reads_every_whole_chunk_of_an_mcap_cut_anywhere() {
 fn count_in_chunk(summary: &mcap::Summary, bytes: &[u8], chunk: &mcap::records::ChunkIndex) -> usize {
     summary.stream_chunk(bytes, chunk).unwrap().count()
 }
+
+#[test]
+fn recover_refuses_to_write_over_its_input_under_another_name() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = wetbounce()
+        .args(["run", "scenes/toluene_drop.toml", "--quiet", "--output-interval", "0.1", "--out"])
+        .arg(dir.path())
+        .output()
+        .unwrap();
+    assert!(out.status.success());
+    let file = dir.path().join("toluene_drop.mcap");
+    let before = std::fs::read(&file).unwrap();
+    let same = dir.path().join(".").join("toluene_drop.mcap");
+    let run = wetbounce().arg("recover").arg(&file).arg(&same).output().unwrap();
+    let stderr = String::from_utf8_lossy(&run.stderr);
+    assert_eq!(run.status.code(), Some(1), "{stderr}");
+    assert!(stderr.contains("is the input"), "{stderr}");
+    assert_eq!(std::fs::read(&file).unwrap(), before, "the input was changed");
+}

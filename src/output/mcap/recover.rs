@@ -64,6 +64,14 @@ pub enum RecoverError {
 pub fn recover(input: &Path, output: &Path) -> Result<Recovered, RecoverError> {
     let read_err = |source| RecoverError::Read { path: input.to_path_buf(), source };
     let mut file = std::fs::File::open(input).map_err(read_err)?;
+    // Creating the output truncates it: were it the input (by another name, a link), the file
+    // to recover would be lost.
+    if same_file(input, output) {
+        return Err(RecoverError::Write {
+            path: output.to_path_buf(),
+            message: format!("is the input, {}; name another file", input.display()),
+        });
+    }
     let length = file.metadata().map_err(read_err)?.len();
     let mut reader = LinearReader::new_with_options(
         LinearReaderOptions::default()
@@ -203,4 +211,16 @@ pub fn recover(input: &Path, output: &Path) -> Result<Recovered, RecoverError> {
     w.finish().map_err(|e| write_err(&e))?;
     w.into_inner().sync().map_err(|e| write_err(&e))?;
     Ok(recovered)
+}
+
+/// Whether `a` and `b` name one file (`b` need not exist).
+fn same_file(a: &Path, b: &Path) -> bool {
+    #[cfg(unix)]
+    {
+        use std::os::unix::fs::MetadataExt;
+        if let (Ok(a), Ok(b)) = (std::fs::metadata(a), std::fs::metadata(b)) {
+            return a.dev() == b.dev() && a.ino() == b.ino();
+        }
+    }
+    matches!((a.canonicalize(), b.canonicalize()), (Ok(a), Ok(b)) if a == b)
 }
