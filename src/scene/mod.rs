@@ -8,6 +8,7 @@ mod build;
 mod error;
 mod fill;
 mod flux;
+mod ranges;
 mod report;
 mod schema;
 pub mod stiffness;
@@ -61,7 +62,12 @@ impl Scene {
                 scene.path = path.to_path_buf();
                 scene
             })
-            .map_err(|e| SceneError::Invalid { file: path.to_path_buf(), key: e.key, message: e.message })
+            .map_err(|e| SceneError::Invalid {
+                file: path.to_path_buf(),
+                key: e.key,
+                // Numbers quoted from other rooms' messages (effects, meshes) written short too.
+                message: error::fmt::shorten_long_numbers(&e.message),
+            })
     }
 
     /// The simulation at time 0.
