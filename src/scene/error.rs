@@ -180,8 +180,11 @@ pub(crate) mod check {
     }
 
     /// A finite value of any sign whose magnitude is within `range` (a coordinate, a speed).
+    /// A signed value whose magnitude must lie in `range`; returns the value with its sign.
     pub fn signed_in(key: &str, v: f64, range: &Range) -> Result<f64, Invalid> {
-        range.check_magnitude(key, finite(key, v)?, &num(v))
+        let v = finite(key, v)?;
+        range.check_magnitude(key, v.abs(), &num(v))?;
+        Ok(v)
     }
 
     pub fn vector(key: &str, v: Vec3Spec) -> Result<DVec3, Invalid> {
