@@ -9,7 +9,7 @@ use wetbounce::output::{
     EventCsv, McapOptions, McapSink, OutputError, Progress, RunSummary, Sink, Statistics, TrajectoryCsv,
 };
 use wetbounce::run::{RunFailed, RunReport, StopSignals, run};
-use wetbounce::scene::{Scene, kind_reports};
+use wetbounce::scene::{LoadOptions, Scene, kind_reports};
 
 /// Particles and drops bouncing on walls in a viscous fluid (Legendre et al. 2006).
 #[derive(Parser)]
@@ -62,6 +62,9 @@ struct RunArgs {
     /// No progress bar (it is also hidden when standard error is not a terminal).
     #[arg(long, short)]
     quiet: bool,
+    /// Accept a run of more than 10⁷ output frames or 10¹⁰ time steps (refused otherwise).
+    #[arg(long)]
+    allow_long_run: bool,
 }
 
 #[derive(Subcommand)]
@@ -72,6 +75,9 @@ enum Command {
     Check {
         /// The scene file (TOML).
         scene: PathBuf,
+        /// Accept a run of more than 10⁷ output frames or 10¹⁰ time steps (refused otherwise).
+        #[arg(long)]
+        allow_long_run: bool,
     },
     /// Rewrite the readable part of an MCAP cut short (a killed run, a full disk) as a valid
     /// file: every message up to the last whole frame.
@@ -87,7 +93,9 @@ fn main() -> ExitCode {
     let cli = Cli::parse();
     let result = match cli.command {
         Command::Run(args) => run_scene(&args),
-        Command::Check { scene } => check_scene(&scene).map(|text| (text, ExitCode::SUCCESS)),
+        Command::Check { scene, allow_long_run } => {
+            check_scene(&scene, LoadOptions { allow_long_run }).map(|text| (text, ExitCode::SUCCESS))
+        }
         Command::Recover { input, output } => {
             recover_mcap(&input, output.as_deref()).map(|text| (text, ExitCode::SUCCESS))
         }
@@ -129,12 +137,9 @@ fn run_scene(args: &RunArgs) -> Result<(String, ExitCode), String> {
                     rebuild with `cargo build --release --features rerun`, or open the .mcap in rerun"
             .into());
     }
-    let scene = Scene::load(path).map_err(|e| e.to_string())?;
-    let output_interval = match args.output_interval {
-        None => scene.output_interval,
-        Some(s) if s.is_finite() && s > 0.0 => s,
-        Some(s) => return Err(format!("--output-interval: must be a finite time > 0 s, got {s}")),
-    };
+    let options = LoadOptions { allow_long_run: args.allow_long_run };
+    let scene = Scene::load_with(path, options).map_err(|e| e.to_string())?;
+    let output_interval = output_interval(&scene, args)?;
     let stem = path.file_stem().map_or("scene".into(), |s| s.to_string_lossy().into_owned());
     let out = args.out.clone().unwrap_or_else(|| Path::new("out").join(&stem));
     std::fs::create_dir_all(&out)
@@ -319,9 +324,23 @@ fn recover_mcap(input: &Path, output: Option<&Path>) -> Result<String, String> {
     ))
 }
 
-fn check_scene(path: &Path) -> Result<String, String> {
+/// The output interval of a run: the scene's, or `--output-interval`, which must be a time > 0
+/// and give no more frames than the scene's own interval may (unless `--allow-long-run`).
+fn output_interval(scene: &Scene, args: &RunArgs) -> Result<f64, String> {
+    let Some(s) = args.output_interval else { return Ok(scene.output_interval) };
+    if !(s.is_finite() && s > 0.0) {
+        return Err(format!("--output-interval: must be a finite time > 0 s, got {s}"));
+    }
+    if !args.allow_long_run {
+        wetbounce::scene::run_length(scene.duration, s, scene.setup.dt)
+            .map_err(|e| format!("--output-interval {s:e}: {e}"))?;
+    }
+    Ok(s)
+}
+
+fn check_scene(path: &Path, options: LoadOptions) -> Result<String, String> {
     let mut text = String::new();
-    let scene = Scene::load(path).map_err(|e| e.to_string())?;
+    let scene = Scene::load_with(path, options).map_err(|e| e.to_string())?;
     let _ = writeln!(text, "{}: valid", path.display());
     let _ = writeln!(
         text,

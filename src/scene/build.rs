@@ -1,13 +1,16 @@
 //! From the parsed file to a validated [`Scene`].
 
-use super::Scene;
 use super::accuracy::auto_step;
 use super::error::check::{self, forbid, only, required};
 use super::error::fmt::{num, shorten_long_numbers, vec3};
 use super::error::{Invalid, SceneError};
-use super::ranges::{self, DENSITY, FLUID_DENSITY, GRAVITY, LENGTH, SPEED, SURFACE_TENSION, TIME, VISCOSITY, YOUNGS_MODULUS};
+use super::ranges::{
+    self, DENSITY, FLUID_DENSITY, GRAVITY, LENGTH, SPEED, SURFACE_TENSION, TIME, VISCOSITY, YOUNGS_MODULUS,
+};
+use super::run_length::{TooLong, run_length};
 use super::schema::*;
 use super::stiffness::stiffest_drag;
+use super::{LoadOptions, Scene};
 use super::{fill, flux, walls};
 use crate::contact::BounceRule;
 use crate::effects::{Physics, build_effect};
@@ -56,7 +59,12 @@ fn line_of(source: &str, at: usize) -> usize {
     source[..at.min(source.len())].matches('\n').count() + 1
 }
 
-pub(super) fn build(file: SceneFile, base: &Path, source: &str) -> Result<Scene, Invalid> {
+pub(super) fn build(
+    file: SceneFile,
+    base: &Path,
+    source: &str,
+    options: LoadOptions,
+) -> Result<Scene, Invalid> {
     let sim = &file.simulation;
     let dt = match sim.dt {
         DtSpec::Seconds(dt) => {
@@ -64,7 +72,11 @@ pub(super) fn build(file: SceneFile, base: &Path, source: &str) -> Result<Scene,
             if let Some(a) = sim.accuracy {
                 return Err(Invalid::new(
                     "simulation.accuracy",
-                    format!("only with dt = \"auto\" (it chooses dt), got \"{}\" with dt = {}", a.name(), num(dt)),
+                    format!(
+                        "only with dt = \"auto\" (it chooses dt), got \"{}\" with dt = {}",
+                        a.name(),
+                        num(dt)
+                    ),
                 ));
             }
             dt
@@ -169,6 +181,15 @@ pub(super) fn build(file: SceneFile, base: &Path, source: &str) -> Result<Scene,
     }
     // After `dt = "auto"` has chosen: its step is far inside the limit, and this says so.
     check_stable_step(&scene.setup, &scene.particles)?;
+    if !options.allow_long_run {
+        run_length(duration, output_interval, scene.setup.dt).map_err(|e| {
+            let key = match e {
+                TooLong::Frames(_) => "simulation.output_interval",
+                TooLong::Steps(_) => "simulation.duration",
+            };
+            Invalid::new(key, e.to_string())
+        })?;
+    }
     Ok(scene)
 }
 

@@ -68,6 +68,19 @@ pub(crate) mod fmt {
         if v == 0.0 || !v.is_finite() || (1e-4..1e4).contains(&a) { format!("{v}") } else { format!("{v:e}") }
     }
 
+    /// A count or a ratio that need not be exact: as [`num`] below 1e4 (to 3 decimals), and
+    /// to three significant digits above (`1.2346e12` is `1.23e12`, `1e298` stays `1e298`).
+    pub fn approx(v: f64) -> String {
+        if !v.is_finite() || v.abs() < 1e4 {
+            return num((v * 1e3).round() / 1e3);
+        }
+        let s = format!("{v:.2e}");
+        // `1.00e298` → `1e298`, `1.20e12` → `1.2e12`.
+        let (mantissa, exponent) = s.split_once('e').unwrap_or((&s, "0"));
+        let mantissa = mantissa.trim_end_matches('0').trim_end_matches('.');
+        format!("{mantissa}e{exponent}")
+    }
+
     /// `text` with every number longer than 20 characters rewritten by [`num`]. Scene
     /// messages write their own numbers with [`num`]; this is for the text they quote from
     /// elsewhere, which cannot be told how to print: serde's (``invalid type: floating point
@@ -79,9 +92,10 @@ pub(crate) mod fmt {
         let mut out = String::with_capacity(text.len());
         let mut i = 0;
         while i < b.len() {
-            let starts_number = b[i].is_ascii_digit()
-                || (b[i] == b'-' && b.get(i + 1).is_some_and(u8::is_ascii_digit));
-            let inside_word = i > 0 && (b[i - 1].is_ascii_alphanumeric() || b[i - 1] == b'_' || b[i - 1] == b'.');
+            let starts_number =
+                b[i].is_ascii_digit() || (b[i] == b'-' && b.get(i + 1).is_some_and(u8::is_ascii_digit));
+            let inside_word =
+                i > 0 && (b[i - 1].is_ascii_alphanumeric() || b[i - 1] == b'_' || b[i - 1] == b'.');
             if !starts_number || inside_word {
                 let next = text[i..].chars().next().map_or(1, char::len_utf8);
                 out.push_str(&text[i..i + next]);
@@ -252,7 +266,7 @@ pub(crate) mod check {
 #[cfg(test)]
 mod tests {
     use super::check::direction;
-    use super::fmt::{num, shorten_long_numbers, vec3};
+    use super::fmt::{approx, num, shorten_long_numbers, vec3};
     use crate::scene::schema::Vec3Spec;
     use glam::DVec3;
     use proptest::prelude::*;
@@ -273,11 +287,19 @@ mod tests {
         assert_eq!(num(f64::NAN), "NaN");
         assert_eq!(num(f64::NEG_INFINITY), "-inf");
         assert_eq!(vec3([0.0, 1e200, -0.5]), "[0, 1e200, -0.5]");
+        assert_eq!(approx(0.01 / 1e-300), "1e298");
+        assert_eq!(approx(1.2346e12), "1.23e12");
+        assert_eq!(approx(12345.0), "1.23e4");
+        assert_eq!(approx(6543.21), "6543.21");
         let serde = format!("invalid type: floating point `{:.1}`, expected a string", 1e300);
         assert_eq!(shorten_long_numbers(&serde), "invalid type: floating point `1e300`, expected a string");
         let effect = format!("must be finite and >= 0, got {} (line 26)", -1.7053473259841148e-5);
-        assert_eq!(shorten_long_numbers(&effect), "must be finite and >= 0, got -1.7053473259841148e-5 (line 26)");
-        let kept = "walls[2].normal: 0.30000000000000004 (line 12, column 3), rk4, 2.2250738585072014e-308, é";
+        assert_eq!(
+            shorten_long_numbers(&effect),
+            "must be finite and >= 0, got -1.7053473259841148e-5 (line 26)"
+        );
+        let kept =
+            "walls[2].normal: 0.30000000000000004 (line 12, column 3), rk4, 2.2250738585072014e-308, é";
         assert_eq!(shorten_long_numbers(kept), kept);
     }
 

@@ -1,9 +1,9 @@
 //! `[[injectors]]` and `[[outlets]]`: validation and building.
 
 use super::error::Invalid;
+use super::error::check::{self, only, required};
 use super::error::fmt::{num, vec3};
 use super::ranges::{DIAMETER, LENGTH, LENGTH_OR_ZERO, SPEED, TIME, TIME_OR_ZERO};
-use super::error::check::{self, only, required};
 use super::schema::*;
 use crate::particles::ParticleKind;
 use crate::pipeline::inject::{Injector, Region, SizeDistribution};
@@ -56,7 +56,10 @@ pub(super) fn build_injectors(
             Some(t) => {
                 check::finite(&k("stop"), t)?;
                 if t <= start {
-                    return Err(Invalid::new(k("stop"), format!("must be > start {}, got {}", num(start), num(t))));
+                    return Err(Invalid::new(
+                        k("stop"),
+                        format!("must be > start {}, got {}", num(start), num(t)),
+                    ));
                 }
                 TIME.check(&k("stop"), t)?
             }
@@ -88,7 +91,11 @@ fn build_region(key: &str, s: &RegionSpec) -> Result<Region, Invalid> {
             only(key, &present, &["center", "normal", "radius"], what)?;
             let center = check::point(&k("center"), required(&k("center"), s.center, what)?)?;
             let normal = check::direction(&k("normal"), required(&k("normal"), s.normal, what)?)?;
-            let radius = check::non_negative_in(&k("radius"), required(&k("radius"), s.radius, what)?, &LENGTH_OR_ZERO)?;
+            let radius = check::non_negative_in(
+                &k("radius"),
+                required(&k("radius"), s.radius, what)?,
+                &LENGTH_OR_ZERO,
+            )?;
             Ok(Region::disk(center, normal, radius))
         }
         RegionType::Box => {
@@ -144,7 +151,11 @@ fn build_size(key: &str, s: &SizeSpec) -> Result<SizeDistribution, Invalid> {
         SizeType::Fixed => {
             let what = "a fixed diameter";
             only(key, &present, &["value"], what)?;
-            SizeDistribution::Fixed(check::positive_in(&k("value"), required(&k("value"), s.value, what)?, &DIAMETER)?)
+            SizeDistribution::Fixed(check::positive_in(
+                &k("value"),
+                required(&k("value"), s.value, what)?,
+                &DIAMETER,
+            )?)
         }
         SizeType::Uniform => {
             let what = "a uniform distribution";
@@ -156,7 +167,8 @@ fn build_size(key: &str, s: &SizeSpec) -> Result<SizeDistribution, Invalid> {
             let what = "a normal distribution";
             only(key, &present, &["mean", "std_dev", "min", "max"], what)?;
             let mean = check::positive_in(&k("mean"), required(&k("mean"), s.mean, what)?, &DIAMETER)?;
-            let std_dev = check::positive_in(&k("std_dev"), required(&k("std_dev"), s.std_dev, what)?, &LENGTH)?;
+            let std_dev =
+                check::positive_in(&k("std_dev"), required(&k("std_dev"), s.std_dev, what)?, &LENGTH)?;
             let (min, max) = range(what)?;
             reachable(mean, std_dev, min, max)?;
             SizeDistribution::Normal { mean, std_dev, min, max }
@@ -164,7 +176,8 @@ fn build_size(key: &str, s: &SizeSpec) -> Result<SizeDistribution, Invalid> {
         SizeType::LogNormal => {
             let what = "a log-normal distribution";
             only(key, &present, &["median", "sigma", "min", "max"], what)?;
-            let median = check::positive_in(&k("median"), required(&k("median"), s.median, what)?, &DIAMETER)?;
+            let median =
+                check::positive_in(&k("median"), required(&k("median"), s.median, what)?, &DIAMETER)?;
             let sigma = check::positive(&k("sigma"), required(&k("sigma"), s.sigma, what)?)?;
             let (min, max) = range(what)?;
             reachable(median.ln(), sigma, min.ln(), max.ln())?;
