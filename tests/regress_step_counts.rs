@@ -12,9 +12,11 @@ use wetbounce::run::run;
 
 const G: f64 = 9.81;
 
-fn free_fall(dt: f64) -> wetbounce::Simulation {
+fn free_fall(dt: f64, duration: f64, interval: f64) -> wetbounce::Simulation {
     BeadOnFloor::new()
         .dt(dt)
+        .duration(duration)
+        .output_interval(interval)
         .integrator("rk2")
         .vacuum()
         .gravity([0.0, 0.0, -G])
@@ -32,7 +34,7 @@ fn free_fall(dt: f64) -> wetbounce::Simulation {
 /// Runs free fall for `duration` with frames every `interval`; returns the steps taken and the
 /// fall's error (m).
 fn fall(dt: f64, duration: f64, interval: f64) -> (u64, f64) {
-    let mut sim = free_fall(dt);
+    let mut sim = free_fall(dt, duration, interval);
     let report = run(&mut sim, duration, interval, &mut [], &AtomicBool::new(false)).unwrap();
     assert_eq!(report.time, duration);
     let z = sim.world.particles.pos[0].z;
