@@ -313,7 +313,6 @@ fn mesh_path_to_dev_zero_is_refused_as_not_a_regular_file() {
 }
 
 #[test]
-#[ignore = "issue 13 finding 10: not fixed yet"]
 fn mesh_file_beyond_the_size_cap_is_refused_without_reading_it() {
     let dir = tempfile::tempdir().unwrap();
     // Sparse: takes no disk space.

@@ -48,6 +48,14 @@ pub enum MeshError {
         /// The path as given.
         path: String,
     },
+    /// The path is not a file to read as a mesh: a device, a fifo, a folder, or too large.
+    #[error("mesh file '{path}' {message}")]
+    NotAMesh {
+        /// The path as given.
+        path: String,
+        /// Why.
+        message: String,
+    },
     /// The geometry is unusable.
     #[error("mesh file '{path}': {message}")]
     Geometry {
@@ -58,12 +66,18 @@ pub enum MeshError {
     },
 }
 
+/// The largest mesh file read (bytes). A binary STL of 10 million triangles is 500 MB; a larger
+/// file is far more likely a wrong path (a disk image, a log) than a wall, and reading it whole
+/// would take the memory of a run.
+pub const MESH_FILE_CAP: u64 = 512 << 20;
+
 /// Loads an STL (ASCII or binary) or OBJ file, scales it by `scale` and moves it by `translate`
 /// (m). Rejects files with no triangles, non-finite coordinates, out-of-range indices or
 /// degenerate (zero-area) triangles, naming the first bad one.
 pub fn load_mesh(path: &Path, scale: f64, translate: DVec3) -> Result<MeshWall, MeshError> {
     let shown = path.display().to_string();
     let ext = path.extension().and_then(|e| e.to_str()).map(str::to_ascii_lowercase);
+    check_file(path, &shown)?;
     let (vertices, triangles) = match ext.as_deref() {
         Some("stl") => read_stl(path, &shown)?,
         Some("obj") => read_obj(path, &shown)?,
@@ -123,6 +137,24 @@ pub fn load_mesh(path: &Path, scale: f64, translate: DVec3) -> Result<MeshWall, 
     let mesh = TriMesh::with_flags(vertices, triangles, flags)
         .map_err(|e| geometry(format!("cannot build the mesh: {e}")))?;
     Ok(MeshWall { mesh, closed })
+}
+
+/// Refuses what is not a regular file (a device such as `/dev/zero` would be read forever, a
+/// fifo would block) and a file beyond [`MESH_FILE_CAP`], from its metadata, before reading it.
+fn check_file(path: &Path, shown: &str) -> Result<(), MeshError> {
+    let meta = std::fs::metadata(path).map_err(|source| MeshError::Read { path: shown.into(), source })?;
+    let refuse = |message: String| MeshError::NotAMesh { path: shown.into(), message };
+    if !meta.is_file() {
+        return Err(refuse("is not a regular file (a device, a fifo or a folder)".into()));
+    }
+    if meta.len() > MESH_FILE_CAP {
+        return Err(refuse(format!(
+            "is {} MiB, beyond the {} MiB a mesh file may have",
+            meta.len() >> 20,
+            MESH_FILE_CAP >> 20
+        )));
+    }
+    Ok(())
 }
 
 /// Vertices with identical coordinates become one (STL and OBJ repeat them per face).
