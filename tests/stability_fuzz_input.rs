@@ -409,7 +409,8 @@ fn every_direction_scaled_by_any_power_of_two_gives_the_same_scene() {
         let shown = |s: &wetbounce::Scene| format!("{:?}{:?}", s.setup, s.particles);
         let reference = shown(&original);
         for (range, key) in vector_literals(&text).into_iter().filter(|(_, k)| k == "normal" || k == "axis") {
-            let v: Vec<f64> = text[range.start + 1..range.end - 1].split(',').map(|t| t.trim().parse().unwrap()).collect();
+            let v: Vec<f64> =
+                text[range.start + 1..range.end - 1].split(',').map(|t| t.trim().parse().unwrap()).collect();
             for k in [-1000, -600, -300, -1, 1, 300, 600, 1000] {
                 let f = 2f64.powi(k);
                 let scaled = format!("[{:e}, {:e}, {:e}]", v[0] * f, v[1] * f, v[2] * f);
@@ -461,7 +462,13 @@ fn float_literals(text: &str) -> Vec<std::ops::Range<usize>> {
 /// message without a 20-digit number — or accepted, and then the scene runs three steps
 /// without a particle going non-finite (what a diameter of 1e-300, a density of 1e300 or a
 /// speed of 1e155 did).
-fn check_magnitude(source: usize, which: usize, mantissa: f64, exponent: i32, sources: &[(PathBuf, String)]) -> Result<(), TestCaseError> {
+fn check_magnitude(
+    source: usize,
+    which: usize,
+    mantissa: f64,
+    exponent: i32,
+    sources: &[(PathBuf, String)],
+) -> Result<(), TestCaseError> {
     let (path, text) = &sources[source % sources.len()];
     let literals = float_literals(text);
     let range = literals[which % literals.len()].clone();
@@ -484,7 +491,12 @@ fn check_magnitude(source: usize, which: usize, mantissa: f64, exponent: i32, so
     let t = (3.0 * sim.setup.dt).min(scene.duration);
     let stepped = catch_unwind(AssertUnwindSafe(|| sim.advance_to(t)));
     prop_assert!(stepped.is_ok(), "{}: the step panicked", shown());
-    prop_assert!(sim.record.lost.is_empty(), "{}: {} particles went non-finite", shown(), sim.record.lost.len());
+    prop_assert!(
+        sim.record.lost.is_empty(),
+        "{}: {} particles went non-finite",
+        shown(),
+        sim.record.lost.len()
+    );
     let p = &sim.world.particles;
     prop_assert!((0..p.len()).all(|i| p.pos[i].is_finite() && p.vel[i].is_finite()), "{}", shown());
     Ok(())
@@ -507,7 +519,8 @@ fn run_magnitudes(cases: u32) {
     let before = ACCEPTED.load(std::sync::atomic::Ordering::Relaxed);
     let mut runner = TestRunner::new(Config { cases, failure_persistence: None, ..Config::default() });
     let sign = prop_oneof![Just(1.0), Just(-1.0)];
-    let strategy = (any::<usize>(), any::<usize>(), (sign, 1.0f64..10.0).prop_map(|(s, m)| s * m), -320i32..308);
+    let strategy =
+        (any::<usize>(), any::<usize>(), (sign, 1.0f64..10.0).prop_map(|(s, m)| s * m), -320i32..308);
     let start = std::time::Instant::now();
     runner.run(&strategy, |(s, which, m, e)| check_magnitude(s, which, m, e, &sources)).unwrap();
     // Most magnitudes are refused; enough must be accepted for the stepping half to count.
@@ -549,11 +562,13 @@ fn run_length_is_refused_exactly_beyond_the_frame_and_step_limits() {
                 Ok(_) => prop_assert!(!too_long, "{duration:e} / {interval:e} / {dt:e} accepted"),
                 Err(e) => {
                     let message = e.to_string();
-                    let about_length = message.contains(" frames, more than") || message.contains(" steps, more than");
+                    let about_length =
+                        message.contains(" frames, more than") || message.contains(" steps, more than");
                     prop_assert_eq!(about_length, too_long, "{}", message);
                 }
             }
-            let allowed = wetbounce::Scene::from_str_with(&mutated, &path, LoadOptions { allow_long_run: true });
+            let allowed =
+                wetbounce::Scene::from_str_with(&mutated, &path, LoadOptions { allow_long_run: true });
             if let Err(e) = allowed {
                 prop_assert!(!e.to_string().contains("more than the 1e"), "{e}");
             }
@@ -574,7 +589,13 @@ fn room_scene(wall: &str, extra: &str) -> String {
 
 /// The fraction of `n` seeded uniform points of the box `[lo, hi]` where a sphere of radius `r`
 /// is clear of `walls` (gap ≥ 0, as at run time).
-fn clear_fraction(walls: &[wetbounce::walls::Wall], lo: glam::DVec3, hi: glam::DVec3, r: f64, n: usize) -> f64 {
+fn clear_fraction(
+    walls: &[wetbounce::walls::Wall],
+    lo: glam::DVec3,
+    hi: glam::DVec3,
+    r: f64,
+    n: usize,
+) -> f64 {
     use rand::{Rng, SeedableRng};
     use wetbounce::walls::Surface;
     let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(7);

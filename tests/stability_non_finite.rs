@@ -49,8 +49,14 @@ fn removal_is_an_event_in_events_csv_and_the_mcap_and_counted_in_the_summary() {
     let mut stats = Statistics::default();
     let report = {
         let mut sinks: Vec<&mut dyn Sink> = vec![&mut mcap_sink, &mut events_sink, &mut stats];
-        wetbounce::run::run(&mut sim, scene.duration, scene.output_interval, &mut sinks, &AtomicBool::new(false))
-            .unwrap()
+        wetbounce::run::run(
+            &mut sim,
+            scene.duration,
+            scene.output_interval,
+            &mut sinks,
+            &AtomicBool::new(false),
+        )
+        .unwrap()
     };
     drop((mcap_sink, events_sink));
     let summary = RunSummary::new(&sim, &report, &stats);

@@ -1,14 +1,16 @@
 //! From the parsed file to a validated [`Scene`].
 
-use super::run_length::{TooLong, run_length};
-use super::{LoadOptions, Scene};
 use super::accuracy::auto_step;
 use super::error::check::{self, forbid, only, required};
 use super::error::fmt::{num, shorten_long_numbers, vec3};
 use super::error::{Invalid, SceneError};
-use super::ranges::{self, DENSITY, FLUID_DENSITY, GRAVITY, LENGTH, SPEED, SURFACE_TENSION, TIME, VISCOSITY, YOUNGS_MODULUS};
+use super::ranges::{
+    self, DENSITY, FLUID_DENSITY, GRAVITY, LENGTH, SPEED, SURFACE_TENSION, TIME, VISCOSITY, YOUNGS_MODULUS,
+};
+use super::run_length::{TooLong, run_length};
 use super::schema::*;
 use super::stiffness::stiffest_drag;
+use super::{LoadOptions, Scene};
 use super::{fill, flux, walls};
 use crate::contact::BounceRule;
 use crate::effects::{Physics, build_effect};
@@ -57,7 +59,12 @@ fn line_of(source: &str, at: usize) -> usize {
     source[..at.min(source.len())].matches('\n').count() + 1
 }
 
-pub(super) fn build(file: SceneFile, base: &Path, source: &str, options: LoadOptions) -> Result<Scene, Invalid> {
+pub(super) fn build(
+    file: SceneFile,
+    base: &Path,
+    source: &str,
+    options: LoadOptions,
+) -> Result<Scene, Invalid> {
     let sim = &file.simulation;
     let dt = match sim.dt {
         DtSpec::Seconds(dt) => {
@@ -65,7 +72,11 @@ pub(super) fn build(file: SceneFile, base: &Path, source: &str, options: LoadOpt
             if let Some(a) = sim.accuracy {
                 return Err(Invalid::new(
                     "simulation.accuracy",
-                    format!("only with dt = \"auto\" (it chooses dt), got \"{}\" with dt = {}", a.name(), num(dt)),
+                    format!(
+                        "only with dt = \"auto\" (it chooses dt), got \"{}\" with dt = {}",
+                        a.name(),
+                        num(dt)
+                    ),
                 ));
             }
             dt

@@ -92,9 +92,10 @@ pub(crate) mod fmt {
         let mut out = String::with_capacity(text.len());
         let mut i = 0;
         while i < b.len() {
-            let starts_number = b[i].is_ascii_digit()
-                || (b[i] == b'-' && b.get(i + 1).is_some_and(u8::is_ascii_digit));
-            let inside_word = i > 0 && (b[i - 1].is_ascii_alphanumeric() || b[i - 1] == b'_' || b[i - 1] == b'.');
+            let starts_number =
+                b[i].is_ascii_digit() || (b[i] == b'-' && b.get(i + 1).is_some_and(u8::is_ascii_digit));
+            let inside_word =
+                i > 0 && (b[i - 1].is_ascii_alphanumeric() || b[i - 1] == b'_' || b[i - 1] == b'.');
             if !starts_number || inside_word {
                 let next = text[i..].chars().next().map_or(1, char::len_utf8);
                 out.push_str(&text[i..i + next]);
@@ -192,9 +193,11 @@ pub(crate) mod check {
         range.check(key, non_negative(key, v)?)
     }
 
-    /// A finite value of any sign whose magnitude is within `range` (a coordinate, a speed).
+    /// A finite value of any sign whose magnitude is within `range` (a coordinate, a speed);
+    /// returns the value with its sign.
     pub fn signed_in(key: &str, v: f64, range: &Range) -> Result<f64, Invalid> {
-        range.check_magnitude(key, finite(key, v)?.abs(), &num(v))?;
+        let v = finite(key, v)?;
+        range.check_magnitude(key, v.abs(), &num(v))?;
         Ok(v)
     }
 
@@ -291,8 +294,12 @@ mod tests {
         let serde = format!("invalid type: floating point `{:.1}`, expected a string", 1e300);
         assert_eq!(shorten_long_numbers(&serde), "invalid type: floating point `1e300`, expected a string");
         let effect = format!("must be finite and >= 0, got {} (line 26)", -1.7053473259841148e-5);
-        assert_eq!(shorten_long_numbers(&effect), "must be finite and >= 0, got -1.7053473259841148e-5 (line 26)");
-        let kept = "walls[2].normal: 0.30000000000000004 (line 12, column 3), rk4, 2.2250738585072014e-308, é";
+        assert_eq!(
+            shorten_long_numbers(&effect),
+            "must be finite and >= 0, got -1.7053473259841148e-5 (line 26)"
+        );
+        let kept =
+            "walls[2].normal: 0.30000000000000004 (line 12, column 3), rk4, 2.2250738585072014e-308, é";
         assert_eq!(shorten_long_numbers(kept), kept);
     }
 

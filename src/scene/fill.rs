@@ -143,7 +143,13 @@ pub(super) fn add_particles(
 /// Refuses a random fill of `count` particles of diameter `d` that, with the particles already
 /// centred in the region `[lo, hi]`, would take more than [`MAX_RANDOM_FILL_FRACTION`] of its
 /// volume: impossible for random placement, and formerly minutes of futile draws.
-fn check_fill_volume(key: &str, p: &Particles, (lo, hi): (DVec3, DVec3), d: f64, count: u32) -> Result<(), Invalid> {
+fn check_fill_volume(
+    key: &str,
+    p: &Particles,
+    (lo, hi): (DVec3, DVec3),
+    d: f64,
+    count: u32,
+) -> Result<(), Invalid> {
     let sphere = |d: f64| std::f64::consts::FRAC_PI_6 * d * d * d;
     let region = (hi - lo).x * (hi - lo).y * (hi - lo).z;
     let asked = count as f64 * sphere(d) / region;
@@ -228,7 +234,7 @@ fn place_random(
         if attempts > budget || (placed == 0 && attempts > 1000) {
             return Err(placed);
         }
-        if attempts % 4096 == 0
+        if attempts.is_multiple_of(4096)
             && let Some(&oldest) = recent.front()
         {
             let rate = recent.len() as f64 / (attempts - oldest) as f64;

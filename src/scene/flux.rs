@@ -1,14 +1,14 @@
 //! `[[injectors]]` and `[[outlets]]`: validation and building.
 
 use super::error::Invalid;
+use super::error::check::{self, only, required};
 use super::error::fmt::{num, vec3};
 use super::ranges::{DIAMETER, LENGTH, LENGTH_OR_ZERO, SPEED, TIME, TIME_OR_ZERO};
-use super::error::check::{self, only, required};
+use super::room::{Room, probe, region_points};
 use super::schema::*;
 use crate::particles::ParticleKind;
 use crate::pipeline::inject::{Injector, Region, SizeDistribution};
 use crate::pipeline::outlets::{Outlet, OutletShape};
-use super::room::{Room, probe, region_points};
 use crate::walls::Wall;
 
 /// Most particles the injectors of a scene may be asked for over the run, as for the initial
@@ -59,7 +59,10 @@ pub(super) fn build_injectors(
             Some(t) => {
                 check::finite(&k("stop"), t)?;
                 if t <= start {
-                    return Err(Invalid::new(k("stop"), format!("must be > start {}, got {}", num(start), num(t))));
+                    return Err(Invalid::new(
+                        k("stop"),
+                        format!("must be > start {}, got {}", num(start), num(t)),
+                    ));
                 }
                 TIME.check(&k("stop"), t)?
             }
@@ -82,7 +85,12 @@ pub(super) fn build_injectors(
 /// skips every particle it is asked for, silently doing none of what the scene says. The
 /// region is sampled (`room::region_points`); a pocket of room the sample misses is one the
 /// injector's 100 draws per particle would almost always miss too.
-fn check_room(key: &str, region: &Region, diameter: &SizeDistribution, walls: &[Wall]) -> Result<(), Invalid> {
+fn check_room(
+    key: &str,
+    region: &Region,
+    diameter: &SizeDistribution,
+    walls: &[Wall],
+) -> Result<(), Invalid> {
     let smallest = match *diameter {
         SizeDistribution::Fixed(d) => d,
         SizeDistribution::Uniform { min, .. }
@@ -94,11 +102,17 @@ fn check_room(key: &str, region: &Region, diameter: &SizeDistribution, walls: &[
         Room::Fits { .. } => return Ok(()),
         Room::TooLarge { .. } => (
             "diameter",
-            format!("a particle of d = {} m (the smallest it makes) fits nowhere in the region clear of the walls", num(smallest)),
+            format!(
+                "a particle of d = {} m (the smallest it makes) fits nowhere in the region clear of the walls",
+                num(smallest)
+            ),
         ),
         Room::Blocked { .. } => ("region", "no point of the region is clear of the walls".to_string()),
     };
-    Err(Invalid::new(format!("{key}.{field}"), format!("this injector can never place a particle: {what}: {}", room.explain())))
+    Err(Invalid::new(
+        format!("{key}.{field}"),
+        format!("this injector can never place a particle: {what}: {}", room.explain()),
+    ))
 }
 
 fn build_region(key: &str, s: &RegionSpec) -> Result<Region, Invalid> {
@@ -116,7 +130,11 @@ fn build_region(key: &str, s: &RegionSpec) -> Result<Region, Invalid> {
             only(key, &present, &["center", "normal", "radius"], what)?;
             let center = check::point(&k("center"), required(&k("center"), s.center, what)?)?;
             let normal = check::direction(&k("normal"), required(&k("normal"), s.normal, what)?)?;
-            let radius = check::non_negative_in(&k("radius"), required(&k("radius"), s.radius, what)?, &LENGTH_OR_ZERO)?;
+            let radius = check::non_negative_in(
+                &k("radius"),
+                required(&k("radius"), s.radius, what)?,
+                &LENGTH_OR_ZERO,
+            )?;
             Ok(Region::disk(center, normal, radius))
         }
         RegionType::Box => {
@@ -172,7 +190,11 @@ fn build_size(key: &str, s: &SizeSpec) -> Result<SizeDistribution, Invalid> {
         SizeType::Fixed => {
             let what = "a fixed diameter";
             only(key, &present, &["value"], what)?;
-            SizeDistribution::Fixed(check::positive_in(&k("value"), required(&k("value"), s.value, what)?, &DIAMETER)?)
+            SizeDistribution::Fixed(check::positive_in(
+                &k("value"),
+                required(&k("value"), s.value, what)?,
+                &DIAMETER,
+            )?)
         }
         SizeType::Uniform => {
             let what = "a uniform distribution";
@@ -184,7 +206,8 @@ fn build_size(key: &str, s: &SizeSpec) -> Result<SizeDistribution, Invalid> {
             let what = "a normal distribution";
             only(key, &present, &["mean", "std_dev", "min", "max"], what)?;
             let mean = check::positive_in(&k("mean"), required(&k("mean"), s.mean, what)?, &DIAMETER)?;
-            let std_dev = check::positive_in(&k("std_dev"), required(&k("std_dev"), s.std_dev, what)?, &LENGTH)?;
+            let std_dev =
+                check::positive_in(&k("std_dev"), required(&k("std_dev"), s.std_dev, what)?, &LENGTH)?;
             let (min, max) = range(what)?;
             reachable(mean, std_dev, min, max)?;
             SizeDistribution::Normal { mean, std_dev, min, max }
@@ -192,7 +215,8 @@ fn build_size(key: &str, s: &SizeSpec) -> Result<SizeDistribution, Invalid> {
         SizeType::LogNormal => {
             let what = "a log-normal distribution";
             only(key, &present, &["median", "sigma", "min", "max"], what)?;
-            let median = check::positive_in(&k("median"), required(&k("median"), s.median, what)?, &DIAMETER)?;
+            let median =
+                check::positive_in(&k("median"), required(&k("median"), s.median, what)?, &DIAMETER)?;
             let sigma = check::positive(&k("sigma"), required(&k("sigma"), s.sigma, what)?)?;
             let (min, max) = range(what)?;
             reachable(median.ln(), sigma, min.ln(), max.ln())?;

@@ -138,7 +138,10 @@ impl Range {
         if self.contains(v) {
             Ok(v)
         } else {
-            Err(Invalid::new(key, format!("must be {} (the range of {}), got {}", self.describe(), self.quantity, num(v))))
+            Err(Invalid::new(
+                key,
+                format!("must be {} (the range of {}), got {}", self.describe(), self.quantity, num(v)),
+            ))
         }
     }
 
@@ -148,7 +151,10 @@ impl Range {
             Ok(m)
         } else {
             let range = self.describe();
-            Err(Invalid::new(key, format!("must be {range} in magnitude (the range of {}), got {shown}", self.quantity)))
+            Err(Invalid::new(
+                key,
+                format!("must be {range} in magnitude (the range of {}), got {shown}", self.quantity),
+            ))
         }
     }
 }
@@ -162,7 +168,11 @@ mod tests {
         let doc = include_str!("../../docs/scene-format.md");
         for range in ALL {
             let shown = range.describe();
-            assert!(doc.contains(&shown), "docs/scene-format.md lacks the range of {}: {shown}", range.quantity);
+            assert!(
+                doc.contains(&shown),
+                "docs/scene-format.md lacks the range of {}: {shown}",
+                range.quantity
+            );
         }
     }
 
@@ -171,7 +181,9 @@ mod tests {
         for range in ALL {
             assert!(range.min < range.max, "{}", range.quantity);
             assert_eq!(range.contains(0.0), range.zero.is_some() || range.min == 0.0, "{}", range.quantity);
-            assert!(range.contains(range.min) && range.contains(range.max) && !range.contains(range.max * 1.0001));
+            assert!(
+                range.contains(range.min) && range.contains(range.max) && !range.contains(range.max * 1.0001)
+            );
         }
         assert!(!DENSITY.contains(0.0) && FLUID_DENSITY.contains(0.0));
     }

@@ -39,11 +39,11 @@ pub enum TooLong {
 /// `output_interval` (s) and time step `dt` (s): the frames first (the usual typo).
 pub fn run_length(duration: f64, output_interval: f64, dt: f64) -> Result<(), TooLong> {
     let frames = duration / output_interval;
-    if !(frames <= MAX_FRAMES) {
+    if frames.is_nan() || frames > MAX_FRAMES {
         return Err(TooLong::Frames(frames));
     }
     let steps = duration / dt;
-    if !(steps <= MAX_STEPS) {
+    if steps.is_nan() || steps > MAX_STEPS {
         return Err(TooLong::Steps(steps));
     }
     Ok(())

@@ -78,7 +78,9 @@ impl<'de> Deserialize<'de> for Vec3Spec {
                     }
                     count += 1;
                 }
-                let wrong = |detail: String| serde::de::Error::custom(format!("must be 3 numbers [x, y, z], {detail}"));
+                let wrong = |detail: String| {
+                    serde::de::Error::custom(format!("must be 3 numbers [x, y, z], {detail}"))
+                };
                 if count != 3 {
                     let s = if count == 1 { "" } else { "s" };
                     return Err(wrong(format!("got {count} value{s}")));

@@ -4,9 +4,9 @@
 
 use super::build::poisson;
 use super::error::Invalid;
+use super::error::check::{self, only, required};
 use super::error::fmt::{num, vec3};
 use super::ranges::{LENGTH, LENGTH_OR_ZERO, MESH_SCALE, YOUNGS_MODULUS};
-use super::error::check::{self, only, required};
 use super::schema::{MaterialSpec, Vec3Spec, WallSpec, WallType};
 use crate::walls::{Cuboid, Cylinder, Plane, Shape, Wall, WallMaterial, annulus_mesh, load_mesh};
 use std::path::Path;
