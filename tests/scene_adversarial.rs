@@ -262,7 +262,6 @@ fn injector_in_a_tank_narrower_than_its_particles_is_refused_naming_the_diameter
 // ---- 9. overlapping initial particles --------------------------------------------------------
 
 #[test]
-#[ignore = "issue 13 finding 9: not fixed yet"]
 fn lattices_offset_by_half_a_spacing_are_refused_naming_both_particles() {
     let lattice = |lo: f64| {
         format!(
@@ -274,7 +273,6 @@ fn lattices_offset_by_half_a_spacing_are_refused_naming_both_particles() {
 }
 
 #[test]
-#[ignore = "issue 13 finding 9: not fixed yet"]
 fn coincident_particles_are_refused_naming_both() {
     let p = "[[particles]]\nkind = \"glass\"\ndiameter = 2e-3\nposition = [0.0, 0.0, 0.01]\n";
     let e = refused(&base(&format!("{p}{p}")));
@@ -378,4 +376,17 @@ fn rerun_with_fewer_formats_removes_the_stale_outputs_of_the_earlier_run() {
     assert!(!out.join("events.csv").exists(), "events.csv of the first run left behind");
     assert!(!out.join("trajectories.csv").exists(), "trajectories.csv of the first run left behind");
     assert!(stderr.contains("events.csv"), "the removal is not reported: {stderr}");
+}
+
+#[test]
+fn injector_seed_of_2_to_the_63_is_refused_too() {
+    let injector = |seed: &str| {
+        base(&format!(
+            "[[injectors]]\nkind = \"glass\"\nrate = 10.0\nseed = {seed}\n\
+             region = {{ type = \"box\", min = [-0.01, -0.01, 0.01], max = [0.01, 0.01, 0.02] }}\n\
+             diameter = {{ distribution = \"fixed\", value = 1e-3 }}\n"
+        ))
+    };
+    assert!(load(&injector("9223372036854775807")).is_ok());
+    assert_error(&refused(&injector("18446744073709551615")), "injectors[0].seed", &["2^63 - 1"]);
 }

@@ -11,7 +11,7 @@ use super::run_length::{TooLong, run_length};
 use super::schema::*;
 use super::stiffness::stiffest_drag;
 use super::{LoadOptions, Scene};
-use super::{fill, flux, walls};
+use super::{fill, flux, overlap, walls};
 use crate::contact::BounceRule;
 use crate::effects::{Physics, build_effect};
 use crate::fluid::{Flow, Fluid, Poiseuille};
@@ -155,6 +155,7 @@ pub(super) fn build(
     let mut particles = Particles::default();
     let origins = fill::add_particles(&file, &kinds, &walls, &mut particles)?;
     check_clear_of_walls(&origins, &particles, &walls)?;
+    overlap::check_no_overlap(&origins, &particles)?;
     let injectors = flux::build_injectors(&file.injectors, &kinds, &walls, duration)?;
     let outlets = flux::build_outlets(&file.outlets, &walls)?;
 

@@ -201,6 +201,16 @@ pub(crate) mod check {
         Ok(v)
     }
 
+    /// A random seed: 0 to 2^63 - 1, as documented. A TOML integer is a signed 64-bit one, but
+    /// the toml crate reads 2^63 to 2^64 - 1 into a `u64` too; a scene that relies on that
+    /// would not be TOML that other readers accept.
+    pub fn seed(key: &str, v: u64) -> Result<u64, Invalid> {
+        if v > i64::MAX as u64 {
+            return Err(Invalid::new(key, format!("must be 0 to 2^63 - 1 (a TOML integer), got {v}")));
+        }
+        Ok(v)
+    }
+
     pub fn vector(key: &str, v: Vec3Spec) -> Result<DVec3, Invalid> {
         let d = DVec3::from(v.0);
         if d.is_finite() {

@@ -90,6 +90,7 @@ pub(super) fn add_particles(
         let d = check::positive_in(&k("diameter"), s.diameter, &DIAMETER)?;
         let (lo, hi) = region(&k("min"), &k("max"), s.min, s.max)?;
         let v = check::magnitude_in(&k("velocity"), s.velocity, &SPEED)?;
+        let seed = check::seed(&k("seed"), s.seed)?;
         if s.count as usize + p.len() > MAX_PARTICLES {
             return Err(Invalid::new(
                 k("count"),
@@ -106,7 +107,7 @@ pub(super) fn add_particles(
             ));
         }
         origins.push((p.len(), format!("random_fill[{i}]")));
-        place_random(p, walls, kind, d, (lo, hi), v, s.count as usize, s.seed).map_err(|placed| {
+        place_random(p, walls, kind, d, (lo, hi), v, s.count as usize, seed).map_err(|placed| {
             if placed > 0 {
                 return Invalid::new(
                     k("count"),
@@ -284,6 +285,21 @@ fn place_random(
 
 /// The scene key that created particle `i` (`particles[2].position`, `lattice[0]`, …).
 pub(super) fn origin_key(origins: &Origins, i: usize) -> String {
+    origin(origins, i).map_or_else(|| "particles".into(), |(_, key)| key.to_string())
+}
+
+/// Particle `i` as messages name it: `particles[2]`, or `lattice[0] element 17` (its number
+/// within its entry, from 0, in the order the entry creates them).
+pub(super) fn describe(origins: &Origins, i: usize) -> String {
+    match origin(origins, i) {
+        Some((_, key)) if key.ends_with(".position") => key.trim_end_matches(".position").to_string(),
+        Some((first, key)) => format!("{key} element {}", i - first),
+        None => format!("particle {i}"),
+    }
+}
+
+/// The group of initial particles particle `i` belongs to: its first index and scene key.
+fn origin(origins: &Origins, i: usize) -> Option<(usize, &str)> {
     let group = origins.partition_point(|(first, _)| *first <= i);
-    origins.get(group.wrapping_sub(1)).map_or_else(|| "particles".into(), |(_, key)| key.clone())
+    origins.get(group.wrapping_sub(1)).map(|(first, key)| (*first, key.as_str()))
 }

@@ -74,7 +74,8 @@ pub(super) fn build_injectors(
                 format!("asks for {total:.3e} particles over the run, more than {MAX_INJECTED:.0}"),
             ));
         }
-        out.push(Injector { name, kind, rate, region, diameter, velocity, start, stop, seed: s.seed });
+        let seed = check::seed(&k("seed"), s.seed)?;
+        out.push(Injector { name, kind, rate, region, diameter, velocity, start, stop, seed });
     }
     Ok(out)
 }

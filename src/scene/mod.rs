@@ -8,6 +8,7 @@ mod build;
 mod error;
 mod fill;
 mod flux;
+mod overlap;
 mod ranges;
 mod report;
 mod room;
