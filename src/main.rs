@@ -146,6 +146,7 @@ fn run_scene(args: &RunArgs) -> Result<(String, ExitCode), String> {
         .map_err(|e| format!("{}: cannot create the output folder: {e}", out.display()))?;
 
     let (mut sinks, mut written) = create_sinks(args, &formats, &scene, &out, &stem)?;
+    remove_stale_outputs(&out, &stem, &written);
     let mut stats = Statistics::default();
     let mut progress = Progress::new(scene.duration, args.quiet);
 
@@ -183,6 +184,30 @@ fn run_scene(args: &RunArgs) -> Result<(String, ExitCode), String> {
     let names: Vec<String> = written.iter().map(|p| p.display().to_string()).collect();
     let _ = writeln!(text, "wrote {}", names.join(", "));
     Ok((text, exit_status(&report, scene.duration, &signals, &errors)))
+}
+
+/// Removes the files an earlier run of this scene wrote into `out` in formats this run does
+/// not write, and says so on standard error: left beside the new outputs, an old events.csv or
+/// MCAP read as this run's. Only the names `run` itself writes are touched, after this run's
+/// files are created (a run that cannot start removes nothing); a file that cannot be removed
+/// is a warning, not a failed run.
+fn remove_stale_outputs(out: &Path, stem: &str, written: &[PathBuf]) {
+    let ours =
+        [format!("{stem}.mcap"), "trajectories.csv".into(), "events.csv".into(), format!("{stem}.rrd")];
+    let stale = ours.iter().map(|name| out.join(name)).filter(|p| !written.contains(p) && p.is_file());
+    let mut removed = Vec::new();
+    for p in stale {
+        match std::fs::remove_file(&p) {
+            Ok(()) => removed.push(p.display().to_string()),
+            Err(e) => eprintln!("warning: {}: cannot remove this output of an earlier run: {e}", p.display()),
+        }
+    }
+    if !removed.is_empty() {
+        eprintln!(
+            "note: removed {}: an earlier run's outputs in formats this run does not write",
+            removed.join(", ")
+        );
+    }
 }
 
 /// The sinks that write files.
