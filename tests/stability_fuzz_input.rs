@@ -468,6 +468,7 @@ fn check_magnitude(
     mantissa: f64,
     exponent: i32,
     sources: &[(PathBuf, String)],
+    accepted: &std::cell::Cell<usize>,
 ) -> Result<(), TestCaseError> {
     let (path, text) = &sources[source % sources.len()];
     let literals = float_literals(text);
@@ -486,7 +487,7 @@ fn check_magnitude(
         }
         Ok(scene) => scene,
     };
-    ACCEPTED.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+    accepted.set(accepted.get() + 1);
     let mut sim = scene.simulation();
     let t = (3.0 * sim.setup.dt).min(scene.duration);
     let stepped = catch_unwind(AssertUnwindSafe(|| sim.advance_to(t)));
@@ -502,9 +503,6 @@ fn check_magnitude(
     Ok(())
 }
 
-/// How many mutated scenes [`check_magnitude`] saw accepted (and stepped).
-static ACCEPTED: std::sync::atomic::AtomicUsize = std::sync::atomic::AtomicUsize::new(0);
-
 /// Whether `message` holds a run of more than 20 digits (a number printed in full).
 fn has_long_number(message: &str) -> bool {
     let mut run = 0;
@@ -516,15 +514,16 @@ fn has_long_number(message: &str) -> bool {
 
 fn run_magnitudes(cases: u32) {
     let sources = sources();
-    let before = ACCEPTED.load(std::sync::atomic::Ordering::Relaxed);
+    // How many mutated scenes were accepted (and stepped).
+    let accepted = std::cell::Cell::new(0usize);
     let mut runner = TestRunner::new(Config { cases, failure_persistence: None, ..Config::default() });
     let sign = prop_oneof![Just(1.0), Just(-1.0)];
     let strategy =
         (any::<usize>(), any::<usize>(), (sign, 1.0f64..10.0).prop_map(|(s, m)| s * m), -320i32..308);
     let start = std::time::Instant::now();
-    runner.run(&strategy, |(s, which, m, e)| check_magnitude(s, which, m, e, &sources)).unwrap();
+    runner.run(&strategy, |(s, which, m, e)| check_magnitude(s, which, m, e, &sources, &accepted)).unwrap();
     // Most magnitudes are refused; enough must be accepted for the stepping half to count.
-    let accepted = ACCEPTED.load(std::sync::atomic::Ordering::Relaxed) - before;
+    let accepted = accepted.get();
     println!(
         "any float of any magnitude: {cases} cases, {accepted} accepted and stepped, in {:.1} s",
         start.elapsed().as_secs_f64()
@@ -608,9 +607,6 @@ fn clear_fraction(
     clear as f64 / n as f64
 }
 
-/// How many cases of [`injector_or_fill_refused_for_room_has_none_by_brute_force`] were refused.
-static REFUSED_FOR_ROOM: std::sync::atomic::AtomicUsize = std::sync::atomic::AtomicUsize::new(0);
-
 /// Class of findings 8 and 10 (no room): for random walls (a floor, a tank, an obstacle, a
 /// column), random box regions and random diameters, an injector or a one-particle random fill
 /// refused for want of room really has (almost) none — fewer than 2 % of 20,000 uniform points
@@ -625,6 +621,7 @@ fn injector_or_fill_refused_for_room_has_none_by_brute_force() {
     let corner = (-0.05f64..0.05, -0.05f64..0.05, -0.05f64..0.05);
     let strategy = (0..4usize, size.clone(), size.clone(), corner.clone(), corner, size, any::<bool>());
     let path = root().join("scenes/room.toml");
+    let refused = std::cell::Cell::new(0usize);
     runner
         .run(&strategy, |(shape, a, b, c0, c1, d, injector)| {
             let wall = match shape {
@@ -652,7 +649,7 @@ fn injector_or_fill_refused_for_room_has_none_by_brute_force() {
             match wetbounce::Scene::from_str(&text, &path) {
                 Ok(_) => {}
                 Err(e) => {
-                    REFUSED_FOR_ROOM.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+                    refused.set(refused.get() + 1);
                     let key = e.key().to_string();
                     let room = key.ends_with(".diameter") || key.ends_with(".region") || key.ends_with(".min");
                     prop_assert!(room, "refused for something else: {e}\n{text}");
@@ -667,7 +664,7 @@ fn injector_or_fill_refused_for_room_has_none_by_brute_force() {
             Ok(())
         })
         .unwrap();
-    let refused = REFUSED_FOR_ROOM.load(std::sync::atomic::Ordering::Relaxed);
+    let refused = refused.get();
     println!("room: {refused} of 150 refused");
     assert!(refused >= 15, "only {refused} of 150 cases refused: the generator misses the class");
 }
@@ -713,4 +710,91 @@ fn random_fill_beyond_64_percent_is_refused_by_volume_and_one_below_25_percent_i
             Ok(())
         })
         .unwrap();
+}
+
+/// Class of finding 9 (overlapping initial particles): up to 40 `[[particles]]` of diameters
+/// 0.1 to 10 mm (ratios up to 100), each at random in a 0.2 m cube or against an earlier one in a random
+/// direction — touching, overlapping by 10⁻⁶ of the sum of radii, or that far apart — followed
+/// by a random fill: the scene is refused exactly when two of them overlap by brute force, the
+/// error naming the later particle of the first pair (in file order), its earliest partner and
+/// the number of pairs; an accepted scene has no overlapping pair, the fill's included.
+#[test]
+fn initial_particles_are_refused_exactly_when_two_overlap_naming_the_first_pair() {
+    let mut runner = TestRunner::new(Config { cases: 100, failure_persistence: None, ..Config::default() });
+    let one = (
+        (0.0f64..0.2, 0.0f64..0.2, 0.0f64..0.2),
+        -4.0f64..-2.0,
+        0usize..5,
+        any::<prop::sample::Index>(),
+        (-1.0f64..1.0, 0.0f64..std::f64::consts::TAU),
+    );
+    let path = root().join("scenes/overlap.toml");
+    let overlap = |(x, dx, y, dy): (glam::DVec3, f64, glam::DVec3, f64)| {
+        let reach = 0.5 * (dx + dy);
+        reach - (x - y).length() > 1e-9 * reach + 1e-15 * x.abs().max(y.abs()).max_element()
+    };
+    let (refused, accepted) = (std::cell::Cell::new(0usize), std::cell::Cell::new(0usize));
+    runner
+        .run(&(prop::collection::vec(one, 2..40), any::<bool>()), |(spec, may_overlap)| {
+            let mut ps: Vec<(glam::DVec3, f64)> = Vec::new();
+            for ((x, y, z), e, how, partner, (cos, phi)) in spec {
+                // Half the cases place no particle overlapping another on purpose.
+                let how = if how == 3 && !may_overlap { 2 } else { how };
+                let d = 10f64.powf(e);
+                let at = match (how, ps.is_empty()) {
+                    (0 | 1, _) | (_, true) => glam::DVec3::new(x, y, z),
+                    _ => {
+                        let (q, dq) = ps[partner.index(ps.len())];
+                        let sin = (1.0 - cos * cos).sqrt();
+                        let dir = glam::DVec3::new(sin * phi.cos(), sin * phi.sin(), cos);
+                        let f = [1.0, 1.0 - 1e-6, 1.0 + 1e-6][how - 2];
+                        q + dir * (f * 0.5 * (dq + d))
+                    }
+                };
+                ps.push((at, d));
+            }
+            let mut text = room_scene("type = \"plane\"\npoint = [0.0, 0.0, -1.0]\nnormal = [0.0, 0.0, 1.0]", "");
+            for (x, d) in &ps {
+                text += &format!(
+                    "[[particles]]\nkind = \"glass\"\ndiameter = {d:e}\nposition = [{:e}, {:e}, {:e}]\n",
+                    x.x, x.y, x.z
+                );
+            }
+            text += "[[random_fill]]\nkind = \"glass\"\ndiameter = 1e-3\nmin = [0.0, 0.0, 0.0]\nmax = [0.03, 0.03, 0.03]\ncount = 20\nseed = 9\n";
+            let pairs: Vec<(usize, usize)> = (0..ps.len())
+                .flat_map(|b| (0..b).map(move |a| (b, a)))
+                .filter(|&(b, a)| overlap((ps[a].0, ps[a].1, ps[b].0, ps[b].1)))
+                .collect();
+            match wetbounce::Scene::from_str(&text, &path) {
+                Ok(scene) => {
+                    accepted.set(accepted.get() + 1);
+                    prop_assert!(pairs.is_empty(), "{pairs:?} overlap, accepted:\n{text}");
+                    let p = &scene.particles;
+                    for b in 0..p.len() {
+                        for a in 0..b {
+                            let both = (p.pos[a], p.diameter[a], p.pos[b], p.diameter[b]);
+                            prop_assert!(!overlap(both), "particles {a} and {b} overlap after loading:\n{text}");
+                        }
+                    }
+                }
+                Err(e) => {
+                    refused.set(refused.get() + 1);
+                    let message = e.to_string();
+                    prop_assert!(!pairs.is_empty(), "no pair overlaps, refused: {message}\n{text}");
+                    let (b, a) = pairs[0];
+                    prop_assert_eq!(e.key(), format!("particles[{b}].position"), "{}", message);
+                    let named = format!("particles[{b}] at");
+                    let partner = format!("overlaps particles[{a}] at");
+                    prop_assert!(message.contains(&named) && message.contains(&partner), "{}", message);
+                    if pairs.len() > 1 {
+                        let count = format!("{} pairs overlap in all", pairs.len());
+                        prop_assert!(message.contains(&count), "{}", message);
+                    }
+                }
+            }
+            Ok(())
+        })
+        .unwrap();
+    println!("overlap: {} refused, {} accepted", refused.get(), accepted.get());
+    assert!(refused.get() >= 10 && accepted.get() >= 10, "the generator misses one side of the class");
 }
