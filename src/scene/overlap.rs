@@ -23,6 +23,7 @@ use super::error::fmt::{num, vec3};
 use super::fill::{Origins, describe, origin_key};
 use crate::particles::Particles;
 use glam::DVec3;
+use std::ops::Range;
 
 /// Relative tolerance on the sum of radii: closer than `(1 − TOLERANCE)(rᵢ + rⱼ)` overlaps.
 const TOLERANCE: f64 = 1e-9;
@@ -116,8 +117,14 @@ pub(super) fn check_no_overlap(origins: &Origins, p: &Particles) -> Result<(), I
             _ => runs.push(Run { key: e.0, start: k, end: k + 1 }),
         }
     }
-    let mut levels: Vec<u8> = runs.iter().map(|r| r.key.0).collect();
-    levels.dedup();
+    // Each level present, with its runs.
+    let mut levels: Vec<(u8, Range<usize>)> = Vec::new();
+    for (k, run) in runs.iter().enumerate() {
+        match levels.last_mut() {
+            Some((l, r)) if *l == run.key.0 => r.end = k + 1,
+            _ => levels.push((run.key.0, k..k + 1)),
+        }
+    }
 
     let mut search = Search { p, pairs: 0, first: None };
     sweep(&mut search, &entries, &runs, &levels);
@@ -145,13 +152,16 @@ pub(super) fn check_no_overlap(origins: &Origins, p: &Particles) -> Result<(), I
 }
 
 /// Tests every pair of particles that may overlap, once, until the search is done.
-fn sweep(search: &mut Search, entries: &[(Key, u32)], runs: &[Run], levels: &[u8]) {
+fn sweep(search: &mut Search, entries: &[(Key, u32)], runs: &[Run], levels: &[(u8, Range<usize>)]) {
     let members = |run: &Run| entries[run.start..run.end].iter().map(|e| e.1 as usize);
-    // The runs of the cells from `from` to `to` (keys, inclusive), found by binary search.
-    let between = |from: Key, to: Key| {
-        let lo = runs.partition_point(|r| r.key < from);
-        let hi = runs.partition_point(|r| r.key <= to);
-        lo..hi.max(lo)
+    // The runs of the cells from `from` to `to` (keys, inclusive) among `within`, found by
+    // binary search: among one level's runs, so that a few large particles are found among
+    // few runs, not among the million small ones.
+    let between = |within: &Range<usize>, from: Key, to: Key| {
+        let level = &runs[within.clone()];
+        let lo = level.partition_point(|r| r.key < from);
+        let hi = level.partition_point(|r| r.key <= to);
+        within.start + lo..within.start + hi.max(lo)
     };
     // One cursor per row of cells after the current one (same level): y + 1 in the same z
     // plane, and y − 1, y, y + 1 in the next one. Keys shifted by a fixed offset keep their
@@ -161,7 +171,7 @@ fn sweep(search: &mut Search, entries: &[(Key, u32)], runs: &[Run], levels: &[u8
     // Per coarser level, the last coarse cell looked up and the runs of its 3 × 3 rows of
     // neighbours: consecutive cells of a row often share their coarse cell, and the binary
     // searches are most of the cost with several sizes.
-    let mut memo: Vec<Option<(Key, [std::ops::Range<usize>; 9])>> = vec![None; levels.len()];
+    let mut memo: Vec<Option<(Key, [Range<usize>; 9])>> = vec![None; levels.len()];
     for (ci, run) in runs.iter().enumerate() {
         let (level, z, y, x) = run.key;
         let next = runs.get(ci + 1).filter(|r| r.key == (level, z, y, x + 1));
@@ -190,15 +200,17 @@ fn sweep(search: &mut Search, entries: &[(Key, u32)], runs: &[Run], levels: &[u8
             }
         }
         // Towards each coarser level: the 27 cells around the run's cell there.
-        for (li, &coarser) in levels.iter().enumerate().filter(|&(_, &l)| l > level) {
+        for (li, (coarser, within)) in levels.iter().enumerate().filter(|(_, (l, _))| *l > level) {
+            let coarser = *coarser;
             let shift = u32::from(coarser - level);
             let c = (coarser, z >> shift, y >> shift, x >> shift);
             let rows = match &memo[li] {
                 Some((k, rows)) if *k == c => rows.clone(),
                 _ => {
-                    let rows: [std::ops::Range<usize>; 9] = std::array::from_fn(|r| {
+                    let rows: [Range<usize>; 9] = std::array::from_fn(|r| {
                         let (dz, dy) = (r as i64 / 3 - 1, r as i64 % 3 - 1);
                         between(
+                            within,
                             (coarser, c.1 + dz, c.2 + dy, c.3 - 1),
                             (coarser, c.1 + dz, c.2 + dy, c.3 + 1),
                         )
@@ -207,6 +219,10 @@ fn sweep(search: &mut Search, entries: &[(Key, u32)], runs: &[Run], levels: &[u8
                     rows
                 }
             };
+            // Most small particles have no large one near them.
+            if rows.iter().all(|r| r.is_empty()) {
+                continue;
+            }
             for i in members(run) {
                 for r in &rows {
                     search.against(i, &runs[r.clone()], entries);
