@@ -169,7 +169,11 @@ fn scene_text(c: &Case, integrator: &str) -> String {
             let scale = c.thickness * d / 1e-3;
             (
                 format!("type = \"mesh\"\nfile = \"meshes/plate_binary.stl\"\nscale = {scale:e}"),
-                (0..c.count).map(|k| DVec3::Z * (r + gap) + DVec3::X * along(k) * scale.min(1.0)).collect(),
+                // Drawn together over a small plate, but not closer than 1.05 d: particles may
+                // not start overlapping one another (the row used to shrink with the plate).
+                (0..c.count)
+                    .map(|k| DVec3::Z * (r + gap) + DVec3::X * along(k) * scale.clamp(0.7, 1.0))
+                    .collect(),
             )
         }
         _ => {
