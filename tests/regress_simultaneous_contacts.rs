@@ -159,4 +159,39 @@ proptest! {
         prop_assert!((e1 - e0).abs() <= 1e-9 * e0, "energy {} -> {} after {} contacts", e0, e1, events.len());
         common::assert_clear_of_walls(&sim);
     }
+
+    /// Class test, for the facets of a mesh: beads thrown at random into the crease (near its
+    /// bottom line, where one step can reach both facets), in vacuum with ε = 1, keep their
+    /// kinetic energy through every contact and never deposit. Slow enough (≤ 0.1 m/s for
+    /// 0.3 s) to stay over the mesh, whose open edges are another matter.
+    #[test]
+    fn beads_into_a_mesh_crease_lose_no_energy_in_vacuum(
+        across in -0.5f64..0.5,
+        along in -0.01f64..0.01,
+        height in 0.0f64..1.5,
+        direction in prop::array::uniform3(-1.0f64..1.0),
+        speed in 0.01f64..0.1,
+        dt in prop::sample::select(vec![1e-4, 1e-3, 1e-2]),
+    ) {
+        // Above the bottom line, clear of both facets (z = |x|): a gap of `height` diameters.
+        let r = 0.5 * D;
+        let x = DVec3::new(across * D, along, (across * D).abs() + std::f64::consts::SQRT_2 * (r + height * D));
+        let dir = DVec3::from(direction) - DVec3::Z;
+        prop_assume!(dir.length() > 1e-3);
+        let v = dir.normalize() * speed;
+        let dir_path = tempfile::tempdir().unwrap();
+        std::fs::write(dir_path.path().join("crease.obj"), CREASE_OBJ).unwrap();
+        let crease = "[[walls]]\nname = \"crease\"\ntype = \"mesh\"\nfile = \"crease.obj\"\n";
+        let path = dir_path.path().join("s.toml");
+        std::fs::write(&path, steel_in_vacuum(dt, crease).particle(x.to_array(), v).toml()).unwrap();
+        let mut sim = wetbounce::Scene::load(&path).unwrap_or_else(|e| panic!("{e}")).simulation();
+        let e0 = kinetic(&sim);
+        let events = common::run_collect(&mut sim, 0.3);
+        for e in &events {
+            prop_assert_eq!(e.outcome, Outcome::Bounced, "{:?}", e);
+        }
+        let e1 = kinetic(&sim);
+        prop_assert!((e1 - e0).abs() <= 1e-9 * e0, "energy {} -> {} after {} contacts", e0, e1, events.len());
+        common::assert_clear_of_walls(&sim);
+    }
 }
