@@ -35,6 +35,7 @@ def cli() -> Path | None:
     """The CLI binary to compare with, if one is built."""
     env = os.environ.get("WETBOUNCE_BIN")
     if env:
+        assert Path(env).exists(), f"WETBOUNCE_BIN={env} does not exist"
         return Path(env)
     target = Path(os.environ.get("CARGO_TARGET_DIR", ROOT / "target"))
     for profile in ("debug", "release"):
@@ -117,6 +118,8 @@ def test_every_bad_scene_raises_the_cli_message():
 def test_a_bad_dict_is_refused_like_the_file_and_named_dict():
     checked = 0
     for path, _ in bad_scenes():
+        if path.name == "random_fill_too_full.toml":
+            continue  # 14 s of placement attempts in a debug build; the file test has it
         try:
             d = tomllib.loads(path.read_text())
         except tomllib.TOMLDecodeError:
@@ -268,11 +271,18 @@ def test_run_writes_the_cli_files(tmp_path):
 
 
 def test_a_run_with_an_outlet_gives_residence_times():
+    # The column, short: 20 drops, an outlet 10 cm up.
     scene = wb.Scene.load(SCENES / "column.toml").with_values(
-        {"injectors[0].stop": 0.2, "simulation.duration": 12.0}
+        {
+            "injectors[0].rate": 100.0,
+            "injectors[0].stop": 0.2,
+            "outlets[0].point": [0.0, 0.0, 0.1],
+            "simulation.duration": 2.5,
+        }
     )
     sim = scene.simulation()
-    sim.advance_to(12.0)
+    sim.advance_to(scene.duration)
+    assert sim.summary()["particles"]["injected"] == 20
     rt = sim.residence_times()
     assert list(rt.columns) == ["outlet", "id", "t", "residence_time"]
     assert len(rt) > 0 and (rt["residence_time"] > 0).all()
