@@ -373,3 +373,27 @@ def test_ctrl_c_stops_a_run_and_closes_its_files(tmp_path):
     last = pd.read_csv(tmp_path / "trajectories.csv")["t"].iloc[-1]
     assert last == summary["time_s"]
     assert (tmp_path / "settling_bed.mcap").stat().st_size > 0
+
+
+# --- stubs --------------------------------------------------------------------------------
+
+
+def test_the_stubs_name_what_the_module_has():
+    """Every class and method of _wetbounce.pyi exists, and every public one is in the stubs."""
+    import ast
+
+    import wetbounce._wetbounce as ext
+
+    tree = ast.parse((Path(wb.__file__).parent / "_wetbounce.pyi").read_text())
+    stub_classes = {n.name: n for n in tree.body if isinstance(n, ast.ClassDef)}
+    for name, node in stub_classes.items():
+        cls = getattr(ext, name)
+        stubbed = {f.name for f in node.body if isinstance(f, ast.FunctionDef)}
+        public = {m for m in vars(cls) if not m.startswith("_")}
+        assert stubbed - {"__getitem__", "__len__"} >= public or name.endswith("Error"), (name, public - stubbed)
+        for m in stubbed:
+            assert hasattr(cls, m), (name, m)
+        assert cls.__doc__, name
+        for m in public:
+            assert getattr(cls, m).__doc__, (name, m)
+    assert {"Scene", "Simulation", "SceneError", "OutputError"} <= set(stub_classes)
