@@ -1,0 +1,569 @@
+//! `wetbounce.Simulation`: stepping (`advance_to`), whole runs writing the CLI's files, the
+//! particle columns as NumPy arrays, events and summary as pandas DataFrames.
+
+use crate::errors::output_error;
+use crate::scene::Scene;
+use numpy::ndarray::Array2;
+use numpy::{IntoPyArray, PyArray1, PyArray2};
+use pyo3::exceptions::{PyRuntimeError, PyValueError};
+use pyo3::prelude::*;
+use pyo3::types::{PyDict, PyList};
+use std::path::{Path, PathBuf};
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::time::{Duration, Instant};
+use wetbounce::contact::ContactEvent;
+use wetbounce::output::{
+    EventCsv, McapOptions, McapSink, OutputError, RunSummary, Sink, Statistics, TrajectoryCsv,
+};
+use wetbounce::pipeline::LostParticle;
+use wetbounce::run::{RunFailed, RunReport, run};
+use wetbounce::scene::LoadOptions;
+
+/// How long the engine steps with the GIL released before Python's signal handlers get a
+/// chance to run (Ctrl-C is noticed within about this time).
+const CHUNK: Duration = Duration::from_millis(50);
+
+/// One row of the events table, in the order `events.csv` has them.
+#[derive(Debug, Clone, Copy)]
+enum Row {
+    Contact(ContactEvent),
+    Lost(LostParticle),
+}
+
+/// A sink that keeps every event and the statistics of `summary.json`.
+#[derive(Default)]
+struct Collector {
+    rows: Vec<Row>,
+    stats: Statistics,
+}
+
+impl Sink for Collector {
+    fn events(&mut self, sim: &wetbounce::Simulation, events: &[ContactEvent]) -> Result<(), OutputError> {
+        self.rows.extend(events.iter().copied().map(Row::Contact));
+        self.stats.events(sim, events)
+    }
+
+    fn lost(&mut self, _sim: &wetbounce::Simulation, lost: &[LostParticle]) -> Result<(), OutputError> {
+        self.rows.extend(lost.iter().copied().map(Row::Lost));
+        Ok(())
+    }
+}
+
+/// A running simulation of a :class:`Scene`: step it with :meth:`advance_to`, or run it whole
+/// with :meth:`run` (which can write the CLI's output files); read the particles' columns as
+/// NumPy arrays (:attr:`positions`, :attr:`velocities`, :attr:`states`, …), the contact
+/// events and the summary as pandas DataFrames.
+///
+/// The engine steps with the GIL released: other Python threads run meanwhile, and Ctrl-C
+/// (``KeyboardInterrupt``) stops :meth:`advance_to` or :meth:`run` within about 50 ms of
+/// wall time, at the end of a step.
+#[pyclass(module = "wetbounce")]
+pub struct Simulation {
+    sim: wetbounce::Simulation,
+    scene_path: PathBuf,
+    source: String,
+    duration: f64,
+    output_interval: f64,
+    options: LoadOptions,
+    collected: Collector,
+    lost_seen: usize,
+    wall_time: Duration,
+    frames: u64,
+    interrupted: bool,
+}
+
+impl Simulation {
+    pub fn new(scene: &Scene) -> Simulation {
+        let s = &scene.scene;
+        Simulation {
+            sim: s.simulation(),
+            scene_path: s.path.clone(),
+            source: s.source.clone(),
+            duration: s.duration,
+            output_interval: s.output_interval,
+            options: scene.options,
+            collected: Collector::default(),
+            lost_seen: 0,
+            wall_time: Duration::ZERO,
+            frames: 0,
+            interrupted: false,
+        }
+    }
+
+    /// Steps towards `t_end` for at most [`CHUNK`] of wall time (at least one step), with the
+    /// step rule of `wetbounce run` (so states at output times are the CLI's, bit for bit),
+    /// handing each step's events to the collector.
+    fn chunk(&mut self, t_end: f64) {
+        let start = Instant::now();
+        let Simulation { sim, collected, lost_seen, .. } = self;
+        // Inside rayon's pool, as `wetbounce run`'s steps (`Simulation::advance_to`).
+        rayon::scope(|_| {
+            while sim.world.time < t_end {
+                let (t, dt) = (sim.world.time, sim.setup.dt);
+                let target = if t_end - t <= 1.000_000_001 * dt { t_end } else { t + dt };
+                sim.advance_to(target);
+                if !sim.record.events.is_empty() {
+                    let events = std::mem::take(&mut sim.record.events);
+                    // The collector never fails.
+                    let _ = collected.events(sim, &events);
+                    sim.record.events = events;
+                    sim.record.events.clear();
+                }
+                if sim.record.lost.len() > *lost_seen {
+                    let _ = collected.lost(sim, &sim.record.lost[*lost_seen..]);
+                    *lost_seen = sim.record.lost.len();
+                }
+                if start.elapsed() >= CHUNK {
+                    break;
+                }
+            }
+        });
+        self.wall_time += start.elapsed();
+    }
+
+    fn report(&self) -> RunReport {
+        RunReport {
+            time: self.sim.world.time,
+            steps: self.sim.world.steps,
+            wall_time: self.wall_time,
+            frames: self.frames,
+            interrupted: self.interrupted,
+        }
+    }
+
+    fn summary_value(&self) -> serde_json::Value {
+        let mut json = RunSummary::new(&self.sim, &self.report(), &self.collected.stats).to_json();
+        json["scene"] = serde_json::Value::String(self.scene_path.display().to_string());
+        json
+    }
+
+    /// A column of `n` vectors as an `(n, 3)` array: one copy, moved into NumPy.
+    fn vectors<'py>(py: Python<'py>, v: &[glam::DVec3]) -> Bound<'py, PyArray2<f64>> {
+        let flat: Vec<f64> = v.iter().flat_map(|x| x.to_array()).collect();
+        Array2::from_shape_vec((v.len(), 3), flat).expect("three numbers per vector").into_pyarray(py)
+    }
+}
+
+/// The output files of one run, as `wetbounce run` makes them.
+type Sinks = Vec<Box<dyn Sink + Send>>;
+
+fn create_sinks(
+    formats: &[String],
+    out: &Path,
+    stem: &str,
+    scene_path: &Path,
+    source: &str,
+    max_spheres: usize,
+) -> PyResult<(Sinks, Vec<PathBuf>)> {
+    for f in formats {
+        if !matches!(f.as_str(), "mcap" | "csv") {
+            return Err(PyValueError::new_err(format!(
+                "formats: {f:?} is not one of \"mcap\", \"csv\" (the rerun recording needs the CLI built with `--features rerun`)"
+            )));
+        }
+    }
+    let mut sinks: Sinks = Vec::new();
+    let mut written = Vec::new();
+    let created = (|| -> Result<(), OutputError> {
+        if formats.iter().any(|f| f == "mcap") {
+            let file = out.join(format!("{stem}.mcap"));
+            let options = McapOptions {
+                max_spheres,
+                scene_path: scene_path.display().to_string(),
+                scene_source: source.to_owned(),
+            };
+            sinks.push(Box::new(McapSink::create(&file, options)?));
+            written.push(file);
+        }
+        if formats.iter().any(|f| f == "csv") {
+            let (t, e) = (out.join("trajectories.csv"), out.join("events.csv"));
+            sinks.push(Box::new(TrajectoryCsv::create(&t)?));
+            written.push(t);
+            sinks.push(Box::new(EventCsv::create(&e)?));
+            written.push(e);
+        }
+        Ok(())
+    })();
+    match created {
+        Ok(()) => Ok((sinks, written)),
+        Err(e) => {
+            let mut errors = vec![e];
+            errors.extend(sinks.iter_mut().filter_map(|s| s.finish().err()));
+            Err(output_error(&errors))
+        }
+    }
+}
+
+#[pymethods]
+impl Simulation {
+    /// Steps the simulation until its time is ``t`` (s), the last step shortened to land on
+    /// it exactly. Steps are taken as ``wetbounce run`` takes them, so the particles at an
+    /// output time are those of the CLI's ``trajectories.csv``. ``t`` may go past the scene's
+    /// duration. The GIL is released while the engine steps; ``KeyboardInterrupt`` stops it
+    /// at the end of a step (the simulation stays usable, at the time it reached).
+    fn advance_to(&mut self, py: Python<'_>, t: f64) -> PyResult<()> {
+        if !t.is_finite() {
+            return Err(PyValueError::new_err(format!("advance_to: t must be a finite time (s), got {t}")));
+        }
+        if t < self.sim.world.time {
+            return Err(PyValueError::new_err(format!(
+                "advance_to: t = {t} s is before the simulation's time, {} s",
+                self.sim.world.time
+            )));
+        }
+        let steps = (t - self.sim.world.time) / self.sim.setup.dt;
+        if steps > wetbounce::scene::MAX_STEPS && !self.options.allow_long_run {
+            return Err(PyValueError::new_err(format!(
+                "advance_to: t = {t} s is {steps:.3e} steps of dt = {} s away, more than {:e}; load the \
+                 scene with allow_long_run=True to accept it",
+                self.sim.setup.dt,
+                wetbounce::scene::MAX_STEPS
+            )));
+        }
+        while self.sim.world.time < t {
+            py.detach(|| self.chunk(t));
+            py.check_signals()?;
+        }
+        Ok(())
+    }
+
+    /// Runs the simulation from time 0 to the scene's duration, exactly as ``wetbounce run``
+    /// does, and returns the files written. With ``out`` (a folder, created if needed), writes
+    /// the CLI's files there: ``NAME.mcap`` (``"mcap"`` in ``formats``, the default),
+    /// ``trajectories.csv`` and ``events.csv`` (``"csv"``), and always ``summary.json``;
+    /// ``NAME`` is ``name``, else the scene file's stem (``scene`` for a dict).
+    /// ``output_interval`` (s) overrides the scene's, as ``--output-interval``; ``max_spheres``
+    /// is ``--max-spheres``. Without ``out`` nothing is written.
+    ///
+    /// The GIL is released while the engine runs. ``KeyboardInterrupt`` stops the run like
+    /// Ctrl-C stops the CLI: the step finishes, every file gets a last frame and is closed,
+    /// ``summary.json`` says ``"interrupted": true`` and ``"signal": "SIGINT"``, then the
+    /// ``KeyboardInterrupt`` propagates. A file that cannot be written raises
+    /// :class:`OutputError` (after the others are closed).
+    #[pyo3(signature = (out = None, *, formats = None, output_interval = None, max_spheres = 1000, name = None))]
+    pub fn run(
+        &mut self,
+        py: Python<'_>,
+        out: Option<PathBuf>,
+        formats: Option<Vec<String>>,
+        output_interval: Option<f64>,
+        max_spheres: usize,
+        name: Option<String>,
+    ) -> PyResult<Vec<PathBuf>> {
+        if self.sim.world.steps > 0 {
+            return Err(PyRuntimeError::new_err(format!(
+                "run: this simulation has already stepped to t = {} s; run() starts at t = 0 \
+                 (make a new one with Scene.simulation(), or continue with advance_to)",
+                self.sim.world.time
+            )));
+        }
+        let interval = match output_interval {
+            None => self.output_interval,
+            Some(s) if !(s.is_finite() && s > 0.0) => {
+                return Err(PyValueError::new_err(format!(
+                    "output_interval: must be a finite time > 0 s, got {s}"
+                )));
+            }
+            Some(s) => {
+                if !self.options.allow_long_run {
+                    wetbounce::scene::run_length(self.duration, s, self.sim.setup.dt)
+                        .map_err(|e| PyValueError::new_err(format!("output_interval {s:e}: {e}")))?;
+                }
+                s
+            }
+        };
+        let formats = formats.unwrap_or_else(|| vec!["mcap".to_owned()]);
+        let stem = name.unwrap_or_else(|| {
+            if self.scene_path.file_name().is_some_and(|n| n == "<dict>") {
+                "scene".to_owned()
+            } else {
+                self.scene_path.file_stem().map_or("scene".into(), |s| s.to_string_lossy().into_owned())
+            }
+        });
+        let (mut sinks, mut written) = match &out {
+            Some(dir) => {
+                std::fs::create_dir_all(dir).map_err(|e| {
+                    pyo3::exceptions::PyOSError::new_err(format!(
+                        "{}: cannot create the output folder: {e}",
+                        dir.display()
+                    ))
+                })?;
+                create_sinks(&formats, dir, &stem, &self.scene_path, &self.source, max_spheres)?
+            }
+            None => (Vec::new(), Vec::new()),
+        };
+
+        let stop = AtomicBool::new(false);
+        let done = AtomicBool::new(false);
+        let mut interrupt: Option<PyErr> = None;
+        let (sim, collected, duration) = (&mut self.sim, &mut self.collected, self.duration);
+        let result: Result<RunReport, RunFailed> = std::thread::scope(|s| {
+            let worker = s.spawn(|| {
+                let mut all: Vec<&mut dyn Sink> =
+                    sinks.iter_mut().map(|s| s.as_mut() as &mut dyn Sink).collect();
+                all.push(collected);
+                let r = run(sim, duration, interval, &mut all, &stop);
+                done.store(true, Ordering::Release);
+                r
+            });
+            while !done.load(Ordering::Acquire) {
+                py.detach(|| {
+                    let start = Instant::now();
+                    while !done.load(Ordering::Acquire) && start.elapsed() < CHUNK {
+                        std::thread::sleep(Duration::from_millis(2));
+                    }
+                });
+                if interrupt.is_none()
+                    && let Err(e) = py.check_signals()
+                {
+                    interrupt = Some(e);
+                    stop.store(true, Ordering::Relaxed);
+                }
+            }
+            match worker.join() {
+                Ok(r) => r,
+                Err(panic) => std::panic::resume_unwind(panic),
+            }
+        });
+        let (report, mut errors) = match result {
+            Ok(report) => (report, Vec::new()),
+            Err(failed) => (failed.report, failed.errors),
+        };
+        self.lost_seen = self.sim.record.lost.len();
+        self.wall_time += report.wall_time;
+        self.frames = report.frames;
+        self.interrupted = report.interrupted;
+        if let Some(dir) = &out {
+            let json_path = dir.join("summary.json");
+            let mut json = self.summary_value();
+            let signal = match &interrupt {
+                Some(e) if e.is_instance_of::<pyo3::exceptions::PyKeyboardInterrupt>(py) => "SIGINT".into(),
+                Some(e) => serde_json::Value::String(e.get_type(py).name()?.to_string()),
+                None => serde_json::Value::Null,
+            };
+            json["signal"] = if report.interrupted { signal } else { serde_json::Value::Null };
+            json["output_errors"] = errors.iter().map(|e| serde_json::Value::String(e.to_string())).collect();
+            let text = serde_json::to_string_pretty(&json).map_err(|e| OutputError::write(&json_path, e));
+            match text.and_then(|t| wetbounce::output::file::write_file(&json_path, &(t + "\n"))) {
+                Ok(()) => written.push(json_path),
+                Err(e) => errors.push(e),
+            }
+        }
+        if let Some(e) = interrupt {
+            return Err(e);
+        }
+        if !errors.is_empty() {
+            return Err(output_error(&errors));
+        }
+        Ok(written)
+    }
+
+    /// Simulated time (s).
+    #[getter]
+    fn time(&self) -> f64 {
+        self.sim.world.time
+    }
+
+    /// Steps taken.
+    #[getter]
+    fn steps(&self) -> u64 {
+        self.sim.world.steps
+    }
+
+    /// The time step Δt (s).
+    #[getter]
+    fn dt(&self) -> f64 {
+        self.sim.setup.dt
+    }
+
+    /// The scene's duration (s).
+    #[getter]
+    fn duration(&self) -> f64 {
+        self.duration
+    }
+
+    /// Number of particles in the simulation now.
+    fn __len__(&self) -> usize {
+        self.sim.world.particles.len()
+    }
+
+    /// Centre positions (m), shape ``(n, 3)``, float64: a new array at each call (the engine's
+    /// columns move at every step, so a view would not outlive it).
+    #[getter]
+    fn positions<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray2<f64>> {
+        Simulation::vectors(py, &self.sim.world.particles.pos)
+    }
+
+    /// Velocities (m/s), shape ``(n, 3)``, float64.
+    #[getter]
+    fn velocities<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray2<f64>> {
+        Simulation::vectors(py, &self.sim.world.particles.vel)
+    }
+
+    /// States, shape ``(n,)``, uint8: 0 free, 1 held (at a wall or in a pair), 2 resting —
+    /// the codes of the MCAP's ``state`` field; ``STATE_NAMES[code]`` is the name written to
+    /// ``trajectories.csv``.
+    #[getter]
+    fn states<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<u8>> {
+        let codes: Vec<u8> = self.sim.world.particles.state.iter().map(|s| s.code()).collect();
+        PyArray1::from_vec(py, codes)
+    }
+
+    /// Particle ids (stable over the run), shape ``(n,)``, uint32.
+    #[getter]
+    fn ids<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<u32>> {
+        PyArray1::from_slice(py, &self.sim.world.particles.id)
+    }
+
+    /// Diameters (m), shape ``(n,)``, float64.
+    #[getter]
+    fn diameters<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<f64>> {
+        PyArray1::from_slice(py, &self.sim.world.particles.diameter)
+    }
+
+    /// Kind indices into :attr:`kind_names`, shape ``(n,)``, uint16.
+    #[getter]
+    fn kinds<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<u16>> {
+        PyArray1::from_slice(py, &self.sim.world.particles.kind)
+    }
+
+    /// The scene's particle kinds, by index.
+    #[getter]
+    fn kind_names(&self) -> Vec<String> {
+        self.sim.setup.kinds.iter().map(|k| k.name.clone()).collect()
+    }
+
+    /// The scene's walls, by index.
+    #[getter]
+    fn wall_names(&self) -> Vec<String> {
+        self.sim.setup.walls.iter().map(|w| w.name.clone()).collect()
+    }
+
+    /// Every contact so far, one row per contact, the columns of ``events.csv``: ``t``,
+    /// ``id``, ``other`` (the wall's name or the other particle's id), ``kind`` (``wall``,
+    /// ``particle``, or ``removed`` for a particle taken out as non-finite), ``normal_speed``,
+    /// ``st``, ``eps``, ``contact_time`` (NaN for a removal), ``outcome`` (``held``,
+    /// ``bounced``, ``deposited``, ``non_finite``). A pandas DataFrame.
+    fn events<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
+        let rows = &self.collected.rows;
+        let n = rows.len();
+        let (mut t, mut id) = (Vec::with_capacity(n), Vec::with_capacity(n));
+        let (mut other, mut kind, mut outcome) =
+            (Vec::with_capacity(n), Vec::with_capacity(n), Vec::with_capacity(n));
+        let mut num =
+            [Vec::with_capacity(n), Vec::with_capacity(n), Vec::with_capacity(n), Vec::with_capacity(n)];
+        for r in rows {
+            match r {
+                Row::Contact(e) => {
+                    let (o, k) = self.sim.setup.name_of(e.other);
+                    t.push(e.time);
+                    id.push(e.id);
+                    other.push(o);
+                    kind.push(k);
+                    for (c, v) in num.iter_mut().zip([e.normal_speed, e.st, e.eps, e.contact_time]) {
+                        c.push(v);
+                    }
+                    outcome.push(e.outcome.name());
+                }
+                Row::Lost(l) => {
+                    t.push(l.time);
+                    id.push(l.id);
+                    other.push(String::new());
+                    kind.push("removed");
+                    for c in &mut num {
+                        c.push(f64::NAN);
+                    }
+                    outcome.push("non_finite");
+                }
+            }
+        }
+        let d = PyDict::new(py);
+        d.set_item("t", PyArray1::from_vec(py, t))?;
+        d.set_item("id", PyArray1::from_vec(py, id))?;
+        d.set_item("other", other)?;
+        d.set_item("kind", kind)?;
+        let [normal_speed, st, eps, contact_time] = num;
+        d.set_item("normal_speed", PyArray1::from_vec(py, normal_speed))?;
+        d.set_item("st", PyArray1::from_vec(py, st))?;
+        d.set_item("eps", PyArray1::from_vec(py, eps))?;
+        d.set_item("contact_time", PyArray1::from_vec(py, contact_time))?;
+        d.set_item("outcome", outcome)?;
+        py.import("pandas")?.getattr("DataFrame")?.call1((d,))
+    }
+
+    /// What each outlet took out so far: a pandas DataFrame with ``outlet``, ``id``, ``t``
+    /// (removal time, s) and ``residence_time`` (s), in removal order.
+    fn residence_times<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
+        let (mut outlet, mut id, mut t, mut rt) = (Vec::new(), Vec::new(), Vec::new(), Vec::new());
+        for (o, removed) in self.sim.setup.outlets.iter().zip(&self.sim.record.removed) {
+            for r in removed {
+                outlet.push(o.name.clone());
+                id.push(r.id);
+                t.push(r.time);
+                rt.push(r.residence_time);
+            }
+        }
+        let d = PyDict::new(py);
+        d.set_item("outlet", outlet)?;
+        d.set_item("id", PyArray1::from_vec(py, id))?;
+        d.set_item("t", PyArray1::from_vec(py, t))?;
+        d.set_item("residence_time", PyArray1::from_vec(py, rt))?;
+        py.import("pandas")?.getattr("DataFrame")?.call1((d,))
+    }
+
+    /// The summary so far, as the dict of ``summary.json`` (particles, impacts, per-wall
+    /// impacts, per-outlet residence-time distributions, injectors; SI units; a mean of
+    /// nothing is ``None``). After :meth:`run` with ``out``, the file's content without its
+    /// ``signal`` and ``output_errors``.
+    fn summary<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
+        let text = self.summary_value().to_string();
+        py.import("json")?.getattr("loads")?.call1((text,))
+    }
+
+    /// The summary's tables as pandas DataFrames: ``"walls"`` (one row per wall: ``impacts``,
+    /// ``held``, ``bounced``, ``deposited``, ``mean_st``, ``mean_eps``, ``held_time_s``),
+    /// ``"outlets"`` (one row per outlet: the residence-time distribution's ``count``,
+    /// ``mean``, ``min``, ``p10``, ``p50``, ``p90``, ``max`` in s, and ``histogram``, a dict) and ``"injectors"`` (``due``,
+    /// ``injected``, ``skipped``), each indexed by name.
+    fn summary_frames<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
+        let json = self.summary_value();
+        let pandas = py.import("pandas")?;
+        let loads = py.import("json")?.getattr("loads")?;
+        let frame = |rows: serde_json::Value, columns: &[&str]| -> PyResult<Bound<'py, PyAny>> {
+            let rows = loads.call1((rows.to_string(),))?;
+            let kwargs = PyDict::new(py);
+            kwargs.set_item("columns", PyList::new(py, columns)?)?;
+            pandas.getattr("DataFrame")?.call((rows,), Some(&kwargs))?.call_method1("set_index", ("name",))
+        };
+        let outlets: Vec<serde_json::Value> = json["outlets"]
+            .as_array()
+            .map(|a| {
+                a.iter()
+                    .map(|o| {
+                        let mut row = o["residence_time_s"].clone();
+                        row["name"] = o["name"].clone();
+                        row
+                    })
+                    .collect()
+            })
+            .unwrap_or_default();
+        let d = PyDict::new(py);
+        let walls = ["name", "impacts", "held", "bounced", "deposited", "mean_st", "mean_eps", "held_time_s"];
+        d.set_item("walls", frame(json["walls"].clone(), &walls)?)?;
+        let outlet_columns = ["name", "count", "mean", "min", "p10", "p50", "p90", "max", "histogram"];
+        d.set_item("outlets", frame(serde_json::Value::Array(outlets), &outlet_columns)?)?;
+        d.set_item("injectors", frame(json["injectors"].clone(), &["name", "due", "injected", "skipped"])?)?;
+        Ok(d)
+    }
+
+    fn __repr__(&self) -> String {
+        format!(
+            "Simulation({:?} at t = {} s of {} s: {} particles, {} steps)",
+            self.scene_path.display().to_string(),
+            self.sim.world.time,
+            self.duration,
+            self.sim.world.particles.len(),
+            self.sim.world.steps
+        )
+    }
+}
