@@ -1,17 +1,15 @@
-//! The `wetbounce` command line: `run` a scene, or `check` it.
+//! The `wetbounce` command line: `run` a scene, `check` it, or `recover` a cut MCAP.
 
 use clap::{Parser, Subcommand, ValueEnum};
 use std::fmt::Write as _;
 use std::io::Write as _;
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
-use std::sync::Arc;
-use std::sync::atomic::{AtomicBool, Ordering};
 use wetbounce::output::{
-    EventCsv, McapOptions, McapSink, Progress, RunSummary, Sink, Statistics, TrajectoryCsv,
+    EventCsv, McapOptions, McapSink, OutputError, Progress, RunSummary, Sink, Statistics, TrajectoryCsv,
 };
-use wetbounce::run::run;
-use wetbounce::scene::{Scene, kind_reports};
+use wetbounce::run::{RunFailed, RunReport, StopSignals, run};
+use wetbounce::scene::{LoadOptions, Scene, kind_reports};
 
 /// Particles and drops bouncing on walls in a viscous fluid (Legendre et al. 2006).
 #[derive(Parser)]
@@ -64,6 +62,9 @@ struct RunArgs {
     /// No progress bar (it is also hidden when standard error is not a terminal).
     #[arg(long, short)]
     quiet: bool,
+    /// Accept a run of more than 10⁷ output frames or 10¹⁰ time steps (refused otherwise).
+    #[arg(long)]
+    allow_long_run: bool,
 }
 
 #[derive(Subcommand)]
@@ -74,17 +75,30 @@ enum Command {
     Check {
         /// The scene file (TOML).
         scene: PathBuf,
+        /// Accept a run of more than 10⁷ output frames or 10¹⁰ time steps (refused otherwise).
+        #[arg(long)]
+        allow_long_run: bool,
+    },
+    /// Rewrite the readable part of an MCAP cut short (a killed run, a full disk) as a valid
+    /// file: every message up to the last whole frame.
+    Recover {
+        /// The cut MCAP file.
+        input: PathBuf,
+        /// The file to write [default: INPUT with `.recovered.mcap` for `.mcap`].
+        output: Option<PathBuf>,
     },
 }
-
-/// Exit status of a run stopped by Ctrl-C: 128 + SIGINT, as shells report it.
-const INTERRUPTED: u8 = 130;
 
 fn main() -> ExitCode {
     let cli = Cli::parse();
     let result = match cli.command {
         Command::Run(args) => run_scene(&args),
-        Command::Check { scene } => check_scene(&scene).map(|text| (text, ExitCode::SUCCESS)),
+        Command::Check { scene, allow_long_run } => {
+            check_scene(&scene, LoadOptions { allow_long_run }).map(|text| (text, ExitCode::SUCCESS))
+        }
+        Command::Recover { input, output } => {
+            recover_mcap(&input, output.as_deref()).map(|text| (text, ExitCode::SUCCESS))
+        }
     };
     match result {
         Ok((text, code)) => {
@@ -106,6 +120,9 @@ fn main() -> ExitCode {
 }
 
 fn run_scene(args: &RunArgs) -> Result<(String, ExitCode), String> {
+    // First of all, so that a signal that comes while the scene loads also stops the run
+    // cleanly (after its first frame) rather than killing it.
+    let signals = StopSignals::install().map_err(|e| format!("cannot install the signal handlers: {e}"))?;
     let path = args.scene.as_path();
     let mut text = String::new();
     if let Some(n) = args.threads {
@@ -120,103 +137,210 @@ fn run_scene(args: &RunArgs) -> Result<(String, ExitCode), String> {
                     rebuild with `cargo build --release --features rerun`, or open the .mcap in rerun"
             .into());
     }
-    let scene = Scene::load(path).map_err(|e| e.to_string())?;
-    let output_interval = match args.output_interval {
-        None => scene.output_interval,
-        Some(s) if s.is_finite() && s > 0.0 => s,
-        Some(s) => return Err(format!("--output-interval: must be a finite time > 0 s, got {s}")),
-    };
+    let options = LoadOptions { allow_long_run: args.allow_long_run };
+    let scene = Scene::load_with(path, options).map_err(|e| e.to_string())?;
+    let output_interval = output_interval(&scene, args)?;
     let stem = path.file_stem().map_or("scene".into(), |s| s.to_string_lossy().into_owned());
     let out = args.out.clone().unwrap_or_else(|| Path::new("out").join(&stem));
     std::fs::create_dir_all(&out)
         .map_err(|e| format!("{}: cannot create the output folder: {e}", out.display()))?;
 
-    // Every sink is created before the run starts, so a bad output folder fails fast.
-    let mut written: Vec<PathBuf> = Vec::new();
-    let mut sinks: Vec<Box<dyn Sink>> = Vec::new();
-    if formats.contains(&Format::Mcap) {
-        let file = out.join(format!("{stem}.mcap"));
-        let options = McapOptions {
-            max_spheres: args.max_spheres,
-            scene_path: path.display().to_string(),
-            scene_source: scene.source.clone(),
-        };
-        sinks.push(Box::new(McapSink::create(&file, options).map_err(|e| e.to_string())?));
-        written.push(file);
-    }
-    if formats.contains(&Format::Csv) {
-        let (t, e) = (out.join("trajectories.csv"), out.join("events.csv"));
-        sinks.push(Box::new(TrajectoryCsv::create(&t).map_err(|e| e.to_string())?));
-        sinks.push(Box::new(EventCsv::create(&e).map_err(|e| e.to_string())?));
-        written.extend([t, e]);
-    }
-    #[cfg(feature = "rerun")]
-    if formats.contains(&Format::Rrd) {
-        let file = out.join(format!("{stem}.rrd"));
-        sinks.push(Box::new(
-            wetbounce::output::RerunSink::create(&file, &stem, &scene.source).map_err(|e| e.to_string())?,
-        ));
-        written.push(file);
-    }
+    let (mut sinks, mut written) = create_sinks(args, &formats, &scene, &out, &stem)?;
     let mut stats = Statistics::default();
     let mut progress = Progress::new(scene.duration, args.quiet);
 
-    // Ctrl-C asks the run to stop after the current step, so every file is closed properly;
-    // a second Ctrl-C gives up at once.
-    let stop = Arc::new(AtomicBool::new(false));
-    {
-        let stop = stop.clone();
-        ctrlc::set_handler(move || {
-            if stop.swap(true, Ordering::SeqCst) {
-                std::process::exit(INTERRUPTED.into());
-            }
-        })
-        .map_err(|e| format!("cannot install the Ctrl-C handler: {e}"))?;
-    }
-
     let mut sim = scene.simulation();
-    let report = {
+    let result = {
         let mut all: Vec<&mut dyn Sink> = sinks.iter_mut().map(|s| s.as_mut() as &mut dyn Sink).collect();
         all.push(&mut stats);
         all.push(&mut progress);
-        run(&mut sim, scene.duration, output_interval, &mut all, &stop).map_err(|e| e.to_string())?
+        run(&mut sim, scene.duration, output_interval, &mut all, signals.flag())
     };
-    let summary = RunSummary::new(&sim, &report, &stats);
-    let json_path = out.join("summary.json");
-    let mut json = summary.to_json();
-    json["scene"] = serde_json::Value::String(path.display().to_string());
-    let json_text =
-        serde_json::to_string_pretty(&json).map_err(|e| format!("{}: {e}", json_path.display()))?;
-    std::fs::write(&json_path, json_text + "\n").map_err(|e| format!("{}: {e}", json_path.display()))?;
-    written.push(json_path);
+    let (summary, report, errors) = write_summary(path, &out, &sim, &stats, &signals, result, &mut written);
+    // The step actually taken: `dt`, or the output interval when that is shorter (a step never
+    // crosses an output time).
+    let step = if output_interval < scene.setup.dt {
+        format!(
+            "dt = {output_interval} s (the output interval; the scene's dt = {} s is longer)",
+            scene.setup.dt
+        )
+    } else {
+        format!("dt = {} s", scene.setup.dt)
+    };
     let _ = writeln!(
         text,
-        "{}: {} particles, {} integrator, dt = {} s",
+        "{}: {} particles, {} integrator, {step}",
         path.display(),
         summary.total(),
         scene.setup.integrator.name(),
-        scene.setup.dt
     );
     let _ = writeln!(text, "{summary}");
     for lost in &sim.record.lost {
         eprintln!("warning: particle {} became non-finite at t = {} s and was removed", lost.id, lost.time);
     }
+    // A file that failed is named on standard error, not as written.
+    written.retain(|p| !errors.iter().any(|e| &e.path == p));
     let names: Vec<String> = written.iter().map(|p| p.display().to_string()).collect();
     let _ = writeln!(text, "wrote {}", names.join(", "));
-    if report.interrupted {
-        eprintln!(
-            "interrupted: stopped at t = {:.6} s of {} s after {} steps; the outputs hold everything up \
-             to that time",
-            report.time, scene.duration, report.steps
-        );
-        return Ok((text, ExitCode::from(INTERRUPTED)));
-    }
-    Ok((text, ExitCode::SUCCESS))
+    Ok((text, exit_status(&report, scene.duration, &signals, &errors)))
 }
 
-fn check_scene(path: &Path) -> Result<String, String> {
+/// The sinks that write files.
+type Sinks = Vec<Box<dyn Sink>>;
+
+/// Creates every sink the formats ask for before the run starts, so that a bad output folder
+/// fails fast; when one cannot be created, those created before it are closed (their errors
+/// reported too) rather than dropped. Returns the sinks and the files they write.
+fn create_sinks(
+    args: &RunArgs,
+    formats: &[Format],
+    scene: &Scene,
+    out: &Path,
+    stem: &str,
+) -> Result<(Sinks, Vec<PathBuf>), String> {
+    let mut written: Vec<PathBuf> = Vec::new();
+    let mut sinks: Sinks = Vec::new();
+    let created = (|| -> Result<(), OutputError> {
+        if formats.contains(&Format::Mcap) {
+            let file = out.join(format!("{stem}.mcap"));
+            let options = McapOptions {
+                max_spheres: args.max_spheres,
+                scene_path: args.scene.display().to_string(),
+                scene_source: scene.source.clone(),
+            };
+            sinks.push(Box::new(McapSink::create(&file, options)?));
+            written.push(file);
+        }
+        if formats.contains(&Format::Csv) {
+            let (t, e) = (out.join("trajectories.csv"), out.join("events.csv"));
+            sinks.push(Box::new(TrajectoryCsv::create(&t)?));
+            written.push(t);
+            sinks.push(Box::new(EventCsv::create(&e)?));
+            written.push(e);
+        }
+        #[cfg(feature = "rerun")]
+        if formats.contains(&Format::Rrd) {
+            let file = out.join(format!("{stem}.rrd"));
+            sinks.push(Box::new(wetbounce::output::RerunSink::create(&file, stem, &scene.source)?));
+            written.push(file);
+        }
+        Ok(())
+    })();
+    match created {
+        Ok(()) => Ok((sinks, written)),
+        Err(e) => {
+            let mut messages = vec![e.to_string()];
+            messages.extend(sinks.iter_mut().filter_map(|s| s.finish().err()).map(|e| e.to_string()));
+            Err(messages.join("\nerror: "))
+        }
+    }
+}
+
+/// Writes DIR/summary.json for a run that ended in any way — finished, stopped by a signal or
+/// by an output error — with the signal (`null` if none) and the output errors (`[]` if none).
+/// Returns the summary, how far the run went and every output error, summary.json's included.
+fn write_summary(
+    scene_path: &Path,
+    out: &Path,
+    sim: &wetbounce::Simulation,
+    stats: &Statistics,
+    signals: &StopSignals,
+    result: Result<RunReport, RunFailed>,
+    written: &mut Vec<PathBuf>,
+) -> (RunSummary, RunReport, Vec<OutputError>) {
+    let (report, mut errors) = match result {
+        Ok(report) => (report, Vec::new()),
+        Err(failed) => (failed.report, failed.errors),
+    };
+    let summary = RunSummary::new(sim, &report, stats);
+    let json_path = out.join("summary.json");
+    let mut json = summary.to_json();
+    json["scene"] = serde_json::Value::String(scene_path.display().to_string());
+    // The signal that stopped the run: one that came after its end stopped nothing.
+    let signal = signals.received().filter(|_| report.interrupted);
+    json["signal"] = signal.map_or(serde_json::Value::Null, |s| s.name.into());
+    json["output_errors"] = errors.iter().map(|e| serde_json::Value::String(e.to_string())).collect();
+    let written_json = serde_json::to_string_pretty(&json)
+        .map_err(|e| OutputError::write(&json_path, e))
+        .and_then(|text| wetbounce::output::file::write_file(&json_path, &(text + "\n")));
+    match written_json {
+        Ok(()) => written.push(json_path),
+        Err(e) => errors.push(e),
+    }
+    (summary, report, errors)
+}
+
+/// Reports how the run ended on standard error and picks the exit status: 1 after an output
+/// error (each named, file and OS error), 128 + the signal's number after a stop signal (130
+/// SIGINT, 143 SIGTERM, 129 SIGHUP), else 0.
+fn exit_status(report: &RunReport, duration: f64, signals: &StopSignals, errors: &[OutputError]) -> ExitCode {
+    for e in errors {
+        eprintln!("error: {e}");
+    }
+    let signal = signals.received();
+    if report.interrupted || !errors.is_empty() {
+        let cause = match (errors.first(), signal) {
+            (Some(_), _) => "an output error".to_string(),
+            (None, Some(s)) => s.name.to_string(),
+            (None, None) => "a stop request".to_string(),
+        };
+        eprintln!(
+            "interrupted: stopped at t = {:.6} s of {} s after {} steps, by {cause}; the outputs hold \
+             everything up to that time",
+            report.time, duration, report.steps
+        );
+    }
+    match (errors.is_empty(), signal) {
+        (false, _) => ExitCode::FAILURE,
+        (true, Some(s)) if report.interrupted => ExitCode::from(s.exit_status()),
+        _ => ExitCode::SUCCESS,
+    }
+}
+
+/// `wetbounce recover INPUT [OUTPUT]`.
+fn recover_mcap(input: &Path, output: Option<&Path>) -> Result<String, String> {
+    let output = match output {
+        Some(o) => o.to_path_buf(),
+        None => {
+            let name = input.file_name().map_or("out".into(), |n| n.to_string_lossy().into_owned());
+            let stem = name.strip_suffix(".mcap").unwrap_or(&name);
+            input.with_file_name(format!("{stem}.recovered.mcap"))
+        }
+    };
+    let r = wetbounce::output::mcap::recover(input, &output).map_err(|e| e.to_string())?;
+    let last = r
+        .last_log_time
+        .map_or("no message".into(), |ns| format!("the last at t = {:.6} s", ns as f64 * 1e-9));
+    let how = match &r.cut {
+        Some(reason) => format!("the file is cut ({reason}); everything before the cut was read"),
+        None => "the file was complete".into(),
+    };
+    Ok(format!(
+        "{}: {} messages ({last}), {} metadata records; {how}\nwrote {}\n",
+        input.display(),
+        r.messages,
+        r.metadata,
+        output.display()
+    ))
+}
+
+/// The output interval of a run: the scene's, or `--output-interval`, which must be a time > 0
+/// and give no more frames than the scene's own interval may (unless `--allow-long-run`).
+fn output_interval(scene: &Scene, args: &RunArgs) -> Result<f64, String> {
+    let Some(s) = args.output_interval else { return Ok(scene.output_interval) };
+    if !(s.is_finite() && s > 0.0) {
+        return Err(format!("--output-interval: must be a finite time > 0 s, got {s}"));
+    }
+    if !args.allow_long_run {
+        wetbounce::scene::run_length(scene.duration, s, scene.setup.dt)
+            .map_err(|e| format!("--output-interval {s:e}: {e}"))?;
+    }
+    Ok(s)
+}
+
+fn check_scene(path: &Path, options: LoadOptions) -> Result<String, String> {
     let mut text = String::new();
-    let scene = Scene::load(path).map_err(|e| e.to_string())?;
+    let scene = Scene::load_with(path, options).map_err(|e| e.to_string())?;
     let _ = writeln!(text, "{}: valid", path.display());
     let _ = writeln!(
         text,

@@ -1,8 +1,11 @@
-//! The run driver: steps a simulation to its end, feeding frames and events to the sinks.
+//! The run driver: steps a simulation to its end, feeding frames and events to the sinks, and
+//! the signals that stop it cleanly ([`StopSignals`]).
 
 use crate::output::{OutputError, Sink};
 use crate::pipeline::Simulation;
-use std::sync::atomic::{AtomicBool, Ordering};
+use std::fmt;
+use std::sync::Arc;
+use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
 use std::time::{Duration, Instant};
 
 /// How a run ended.
@@ -20,18 +23,38 @@ pub struct RunReport {
     pub interrupted: bool,
 }
 
+/// A run stopped by output errors: where it stopped, and every error, the first (the one that
+/// stopped it) first, then those of the sinks that could not be finished. Each names its file.
+#[derive(Debug, thiserror::Error)]
+#[error("{}", list(.errors))]
+pub struct RunFailed {
+    /// How far the run went.
+    pub report: RunReport,
+    /// The errors, one per file at most.
+    pub errors: Vec<OutputError>,
+}
+
+fn list(errors: &[OutputError]) -> String {
+    errors.iter().map(ToString::to_string).collect::<Vec<_>>().join("\n")
+}
+
 /// Runs `sim` to `duration` (s), with a frame to every sink at `t = 0` and at each multiple of
 /// `output_interval` (s) — exactly, whatever `Δt` — and at the end. After every step the sinks
-/// get [`Sink::step`] and the step's events. Setting `stop` (Ctrl-C) ends the run after the
-/// current step, with a last frame at that time; every sink is finished (flushed, closed) in
-/// every case, even after a sink error, so no output is lost or left unreadable.
+/// get [`Sink::step`] and the step's events. Setting `stop` (a signal, [`StopSignals`]) ends the
+/// run after the current step, with a last frame at that time (or at once, after the frame at
+/// `t = 0`, when it is set before the run starts).
+///
+/// The first sink error stops the run too. Every sink is finished (flushed, closed) in every
+/// case — the others still finish after one failed — so no output is lost or left unreadable
+/// beyond the failing file; the error and those of any sink that could not be finished come
+/// back in [`RunFailed`], with how far the run went.
 pub fn run(
     sim: &mut Simulation,
     duration: f64,
     output_interval: f64,
     sinks: &mut [&mut dyn Sink],
     stop: &AtomicBool,
-) -> Result<RunReport, OutputError> {
+) -> Result<RunReport, RunFailed> {
     let start = Instant::now();
     let mut frames = 0;
     let mut lost_reported = sim.record.lost.len();
@@ -45,10 +68,15 @@ pub fn run(
             if sim.world.time >= duration {
                 return Ok(false);
             }
+            // A signal that came before the first step (while the scene loaded) stops the run
+            // here, with the frame just written as its last.
+            if stop.load(Ordering::Relaxed) {
+                return Ok(true);
+            }
             k += 1;
             let next = (k as f64 * output_interval).min(duration);
             while sim.world.time < next {
-                // One step at a time, so that Ctrl-C stops within a step; the last step of an
+                // One step at a time, so that a signal stops within a step; the last step of an
                 // interval lands on `next` exactly (`advance_to` shortens or stretches it).
                 let (t, dt) = (sim.world.time, sim.setup.dt);
                 let target = if next - t <= 1.000_000_001 * dt { next } else { t + dt };
@@ -73,16 +101,28 @@ pub fn run(
             }
         }
     })();
-    let finished: Result<(), OutputError> = sinks.iter_mut().try_for_each(|s| s.finish());
-    let interrupted = result?;
-    finished?;
-    Ok(RunReport {
+    let mut errors: Vec<OutputError> = Vec::new();
+    let interrupted = result.unwrap_or_else(|e| {
+        errors.push(e);
+        false
+    });
+    // Every sink is finished, whatever happened to the others. A file that already failed may
+    // fail again on its last flush: it is named once.
+    for s in sinks.iter_mut() {
+        if let Err(e) = s.finish()
+            && !errors.iter().any(|seen| seen.path == e.path)
+        {
+            errors.push(e);
+        }
+    }
+    let report = RunReport {
         time: sim.world.time,
         steps: sim.world.steps,
         wall_time: start.elapsed(),
         frames,
         interrupted,
-    })
+    };
+    if errors.is_empty() { Ok(report) } else { Err(RunFailed { report, errors }) }
 }
 
 fn flush_events(sim: &mut Simulation, sinks: &mut [&mut dyn Sink]) -> Result<(), OutputError> {
@@ -96,4 +136,77 @@ fn flush_events(sim: &mut Simulation, sinks: &mut [&mut dyn Sink]) -> Result<(),
     sim.record.events = events;
     sim.record.events.clear();
     Ok(())
+}
+
+/// A signal that stops a run cleanly.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct StopSignal {
+    /// The signal's number (SIGINT 2, SIGTERM 15, SIGHUP 1 on Linux).
+    pub number: i32,
+    /// Its name, `SIGINT`, `SIGTERM` or `SIGHUP`.
+    pub name: &'static str,
+}
+
+impl StopSignal {
+    /// The exit status of a run it stopped: 128 + the signal's number, what a shell reports for
+    /// a process the signal killed (130, 143, 129), so scripts and schedulers see the same code
+    /// whether the run was stopped cleanly or killed.
+    pub fn exit_status(self) -> u8 {
+        (128 + self.number).clamp(0, 255) as u8
+    }
+}
+
+impl fmt::Display for StopSignal {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(self.name)
+    }
+}
+
+/// The signals that stop a run cleanly: SIGINT (Ctrl-C), SIGTERM (`kill`, `timeout`, batch
+/// schedulers, container runtimes) and, on Unix, SIGHUP (the terminal closed).
+pub const STOP_SIGNALS: &[StopSignal] = &[
+    StopSignal { number: signal_hook::consts::SIGINT, name: "SIGINT" },
+    StopSignal { number: signal_hook::consts::SIGTERM, name: "SIGTERM" },
+    #[cfg(unix)]
+    StopSignal { number: signal_hook::consts::SIGHUP, name: "SIGHUP" },
+];
+
+/// The process's handlers for [`STOP_SIGNALS`]: the first such signal sets [`Self::flag`] (the
+/// `stop` of [`run`]: the run finishes its step, writes a last frame and closes every file) and
+/// records which signal it was; a second one, of any of them, exits at once with 128 + its
+/// number, without closing the files — which then still hold every frame up to the last one,
+/// since the sinks flush at every frame.
+#[derive(Debug)]
+pub struct StopSignals {
+    flag: Arc<AtomicBool>,
+    received: Arc<AtomicUsize>,
+}
+
+impl StopSignals {
+    /// Installs the handlers (replacing the default action, which kills the process with its
+    /// files cut). Call it once, early: a signal that comes before is not caught.
+    pub fn install() -> std::io::Result<Self> {
+        let flag = Arc::new(AtomicBool::new(false));
+        let received = Arc::new(AtomicUsize::new(0));
+        for s in STOP_SIGNALS {
+            // The order matters: the exit is armed by the flag, so on the first signal it finds
+            // the flag unset and does nothing; the flag is set last, after the signal's number,
+            // so that whoever sees the flag sees which signal set it.
+            signal_hook::flag::register_conditional_shutdown(s.number, 128 + s.number, flag.clone())?;
+            signal_hook::flag::register_usize(s.number, received.clone(), s.number as usize)?;
+            signal_hook::flag::register(s.number, flag.clone())?;
+        }
+        Ok(StopSignals { flag, received })
+    }
+
+    /// Set by the first stop signal: pass it to [`run`] as `stop`.
+    pub fn flag(&self) -> &AtomicBool {
+        &self.flag
+    }
+
+    /// The stop signal that came, if any (the last one, if several came at once).
+    pub fn received(&self) -> Option<StopSignal> {
+        let n = self.received.load(Ordering::SeqCst);
+        STOP_SIGNALS.iter().copied().find(|s| s.number as usize == n && n != 0)
+    }
 }

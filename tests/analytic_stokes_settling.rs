@@ -3,6 +3,7 @@
 //! `τ = (ρp + C_M ρ) d² / (18 μ)`, in a uniform flow `u`: `v → u + V_t`.
 
 mod common;
+use common::fixture::BeadOnFloor;
 use glam::DVec3;
 
 const D: f64 = 1e-3;
@@ -25,35 +26,20 @@ fn exact(t: f64) -> (DVec3, DVec3) {
 
 /// Relative error of position and velocity at T_END, for an integrator and a step.
 fn error(integrator: &str, dt: f64) -> f64 {
-    let text = format!(
-        r#"
-[simulation]
-dt = {dt}
-duration = {T_END}
-output_interval = {T_END}
-integrator = "{integrator}"
-[fluid]
-density = {RHO}
-viscosity = {MU}
-flow = {{ type = "uniform", velocity = {U:?} }}
-[effects]
-gravity = {{}}
-buoyancy = {{}}
-drag = {{ law = "stokes" }}
-added_mass = {{}}
-[[kinds]]
-name = "glass"
-type = "solid"
-density = {RHO_P}
-youngs_modulus = 6e10
-poisson_ratio = 0.23
-[[particles]]
-kind = "glass"
-diameter = {D}
-position = [0.0, 0.0, 0.0]
-"#
-    );
-    let mut sim = common::scene(&text).simulation();
+    let mut sim = BeadOnFloor::new()
+        .dt(dt)
+        .duration(T_END)
+        .output_interval(T_END)
+        .integrator(integrator)
+        .fluid(RHO, MU)
+        .flow(&format!("{{ type = \"uniform\", velocity = {U:?} }}"))
+        .effects("gravity = {}\nbuoyancy = {}\ndrag = { law = \"stokes\" }\nadded_mass = {}")
+        .density(RHO_P)
+        .walls("")
+        .diameter(D)
+        .at([0.0; 3])
+        .scene()
+        .simulation();
     sim.advance_to(T_END);
     let (x, v) = exact(T_END);
     (sim.world.particles.pos[0] - x).length() / x.length()

@@ -2,46 +2,30 @@
 //! inside the step, and RK2 is exact for motion under constant gravity.
 
 mod common;
+use common::fixture::BeadOnFloor;
 use wetbounce::Outcome;
 
 const H0: f64 = 0.1;
 const R: f64 = 0.005;
 const G: f64 = 9.81;
 
+/// A steel ball in vacuum, ε_max = 1, dropped from H0 onto the floor.
 fn vacuum_scene(integrator: &str, dt: f64) -> wetbounce::Scene {
-    common::scene(&format!(
-        r#"
-[simulation]
-dt = {dt}
-duration = 10.0
-output_interval = 0.01
-integrator = "{integrator}"
-[fluid]
-density = 0.0
-viscosity = 0.0
-gravity = [0.0, 0.0, -{G}]
-[effects]
-gravity = {{}}
-[[kinds]]
-name = "steel"
-type = "solid"
-density = 7800.0
-restitution_max = 1.0
-youngs_modulus = 2e11
-poisson_ratio = 0.3
-[[walls]]
-name = "floor"
-type = "plane"
-point = [0.0, 0.0, 0.0]
-normal = [0.0, 0.0, 1.0]
-[[particles]]
-kind = "steel"
-diameter = {d}
-position = [0.0, 0.0, {z0}]
-"#,
-        d = 2.0 * R,
-        z0 = H0 + R
-    ))
+    BeadOnFloor::new()
+        .dt(dt)
+        .duration(10.0)
+        .output_interval(0.01)
+        .integrator(integrator)
+        .vacuum()
+        .gravity([0.0, 0.0, -G])
+        .effects("gravity = {}")
+        .kind("steel")
+        .density(7800.0)
+        .elastic(2e11, 0.3)
+        .restitution_max(1.0)
+        .diameter(2.0 * R)
+        .at([0.0, 0.0, H0 + R])
+        .scene()
 }
 
 #[test]

@@ -1,53 +1,26 @@
 //! The bounce rule's cases (PHYSICS.md §5) on simple geometries.
 
 mod common;
+use common::fixture::BeadOnFloor;
 use glam::DVec3;
 use wetbounce::Outcome;
 use wetbounce::particles::State;
 
-/// A 2 mm bead in a viscous liquid over a floor; `extra` adds TOML (walls, bounce, flow).
-fn bead_scene(velocity: [f64; 3], z0: f64, extra: &str, fluid_extra: &str) -> wetbounce::Scene {
-    common::scene(&format!(
-        r#"
-{extra}
-[simulation]
-dt = 1e-4
-duration = 1.0
-output_interval = 0.01
-[fluid]
-density = 1000.0
-viscosity = 1e-3
-{fluid_extra}
-[effects]
-gravity = {{}}
-buoyancy = {{}}
-drag = {{}}
-added_mass = {{}}
-[[kinds]]
-name = "glass"
-type = "solid"
-density = 2500.0
-youngs_modulus = 6e10
-poisson_ratio = 0.23
-restitution_max = 0.95
-[[walls]]
-name = "floor"
-type = "plane"
-point = [0.0, 0.0, 0.0]
-normal = [0.0, 0.0, 1.0]
-[[particles]]
-kind = "glass"
-diameter = 2e-3
-position = [0.0, 0.0, {z0}]
-velocity = {velocity:?}
-"#
-    ))
+/// A 2 mm glass bead (ε_max = 0.95) in a viscous liquid over the floor, at height `z0`, moving
+/// at `velocity`.
+fn bead(velocity: [f64; 3], z0: f64) -> BeadOnFloor {
+    BeadOnFloor::new()
+        .dt(1e-4)
+        .output_interval(0.01)
+        .fluid(1000.0, 1e-3)
+        .restitution_max(0.95)
+        .particle([0.0, 0.0, z0], velocity)
 }
 
 #[test]
 fn slow_impact_below_st_c_deposits_and_the_bead_rests_without_drift() {
     // Starting 10 µm above the floor at rest: reaches ~1 cm/s, St ≈ 6.6 < 10.
-    let mut sim = bead_scene([0.0; 3], 1.01e-3, "", "").simulation();
+    let mut sim = bead([0.0; 3], 1.01e-3).scene().simulation();
     let events = common::run_collect(&mut sim, 0.1);
     assert_eq!(events.len(), 1, "{events:#?}");
     assert_eq!(events[0].outcome, Outcome::Deposited);
@@ -65,8 +38,8 @@ fn slow_impact_below_st_c_deposits_and_the_bead_rests_without_drift() {
 
 #[test]
 fn resting_bead_slides_with_the_flow_and_stays_on_the_floor() {
-    let flow = r#"flow = { type = "uniform", velocity = [0.01, 0.0, 0.0] }"#;
-    let mut sim = bead_scene([0.01, 0.0, 0.0], 1.01e-3, "", flow).simulation();
+    let flow = r#"{ type = "uniform", velocity = [0.01, 0.0, 0.0] }"#;
+    let mut sim = bead([0.01, 0.0, 0.0], 1.01e-3).flow(flow).scene().simulation();
     sim.advance_to(1.0);
     assert_eq!(sim.world.particles.state[0], State::Resting);
     let (x, v) = (sim.world.particles.pos[0], sim.world.particles.vel[0]);
@@ -78,8 +51,8 @@ fn resting_bead_slides_with_the_flow_and_stays_on_the_floor() {
 fn resting_bead_leaves_when_the_net_force_points_away() {
     // Gravity reversed after deposit: an upward flow pulls it off. Simulated with a strong
     // upward uniform flow: drag points away from the floor, so the bead leaves at once.
-    let flow = r#"flow = { type = "uniform", velocity = [0.0, 0.0, 0.5] }"#;
-    let mut sim = bead_scene([0.0; 3], 1.0e-3, "", flow).simulation();
+    let flow = r#"{ type = "uniform", velocity = [0.0, 0.0, 0.5] }"#;
+    let mut sim = bead([0.0; 3], 1.0e-3).flow(flow).scene().simulation();
     sim.world.particles.state[0] = State::Resting;
     sim.world.particles.wall[0] = 0;
     sim.advance_to(0.01);
@@ -90,8 +63,7 @@ fn resting_bead_leaves_when_the_net_force_points_away() {
 #[test]
 fn fast_impact_rebounds_with_eps_and_tangential_restitution() {
     // 0.5 m/s down and 0.2 m/s along x, starting just above the floor, e_t = 0.5.
-    let mut sim =
-        bead_scene([0.2, 0.0, -0.5], 1.05e-3, "[bounce]\ntangential_restitution = 0.5", "").simulation();
+    let mut sim = bead([0.2, 0.0, -0.5], 1.05e-3).bounce("tangential_restitution = 0.5").scene().simulation();
     let mut events = Vec::new();
     while events.is_empty() {
         sim.step(1e-5);
@@ -111,37 +83,19 @@ fn fast_impact_rebounds_with_eps_and_tangential_restitution() {
 fn bead_inside_a_cylinder_grazing_at_89_degrees_stays_inside() {
     // In vacuum at 1 m/s, 89° from the wall normal: radial speed 1.75 cm/s, first impact at
     // 1.38 s, the next at 4.1 s.
-    let scene = common::scene(
-        r#"
-[simulation]
-dt = 1e-3
-duration = 1.0
-output_interval = 0.01
-[fluid]
-density = 0.0
-viscosity = 0.0
-gravity = [0.0, 0.0, 0.0]
-[effects]
-[[kinds]]
-name = "steel"
-type = "solid"
-density = 7800.0
-youngs_modulus = 2e11
-poisson_ratio = 0.3
-[[walls]]
-name = "column"
-type = "cylinder"
-base = [0.0, 0.0, -1.0]
-radius = 0.025
-length = 10.0
-[[particles]]
-kind = "steel"
-diameter = 2e-3
-position = [0.0, 0.0, 0.0]
-velocity = [0.0174524, 0.0, 0.9998477]
-"#,
-    );
-    let mut sim = scene.simulation();
+    let column = "[[walls]]\nname = \"column\"\ntype = \"cylinder\"\nbase = [0.0, 0.0, -1.0]\nradius = 0.025\nlength = 10.0\n";
+    let mut sim = BeadOnFloor::new()
+        .output_interval(0.01)
+        .vacuum()
+        .gravity([0.0; 3])
+        .effects("")
+        .kind("steel")
+        .density(7800.0)
+        .elastic(2e11, 0.3)
+        .walls(column)
+        .particle([0.0; 3], [0.0174524, 0.0, 0.9998477])
+        .scene()
+        .simulation();
     let events = common::run_collect(&mut sim, 5.0);
     assert_eq!(events.len(), 2);
     for e in &events {

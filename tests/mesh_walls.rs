@@ -3,6 +3,9 @@
 //! dropped on it bounces as on the plane z = 0, and a fast bead with a huge step does not
 //! tunnel through it (nor through the equal closed-form box).
 
+mod common;
+
+use common::fixture::{BeadOnFloor, FLOOR};
 use glam::DVec3;
 use std::path::{Path, PathBuf};
 use wetbounce::Outcome;
@@ -33,13 +36,6 @@ fn mesh_wall(file: &str) -> String {
     format!("[[walls]]\nname = \"plate\"\ntype = \"mesh\"\nfile = \"{file}\"\n")
 }
 
-const FLOOR_PLANE: &str = "[[walls]]
-name = \"floor\"
-type = \"plane\"
-point = [0.0, 0.0, 0.0]
-normal = [0.0, 0.0, 1.0]
-";
-
 fn plate_box() -> String {
     format!(
         "[[walls]]\nname = \"plate\"\ntype = \"box\"\nmin = [{m}, {m}, {b}]\nmax = [{h}, {h}, 0.0]\ninside = false\n",
@@ -51,42 +47,17 @@ fn plate_box() -> String {
 
 /// A vacuum scene with one elastic 2 mm glass bead at `pos` moving at `vel`.
 fn vacuum_scene(dt: f64, effects: &str, wall: &str, pos: DVec3, vel: DVec3) -> Scene {
-    let text = format!(
-        r#"
-[simulation]
-dt = {dt:e}
-duration = 1.0
-output_interval = 1e-3
-
-[fluid]
-density = 0.0
-viscosity = 0.0
-gravity = [0.0, 0.0, -9.81]
-
-[effects]
-{effects}
-
-[[kinds]]
-name = "bead"
-type = "solid"
-density = 2500.0
-restitution_max = 1.0
-youngs_modulus = 6e10
-poisson_ratio = 0.23
-
-{wall}
-
-[[particles]]
-kind = "bead"
-diameter = {D:e}
-position = [{:e}, {:e}, {:e}]
-velocity = [{:e}, {:e}, {:e}]
-"#,
-        pos.x, pos.y, pos.z, vel.x, vel.y, vel.z
-    );
-    // A path inside scenes/ so that `meshes/...` resolves against scenes/.
-    let path = scenes_dir().join("mesh_walls_test.toml");
-    Scene::from_str(&text, &path).unwrap_or_else(|e| panic!("{e}\n{text}"))
+    BeadOnFloor::new()
+        .dt(dt)
+        .output_interval(1e-3)
+        .vacuum()
+        .gravity([0.0, 0.0, -9.81])
+        .effects(effects)
+        .kind("bead")
+        .restitution_max(1.0)
+        .walls(wall)
+        .particle(pos, vel)
+        .scene()
 }
 
 /// Advances `sim` by `steps` steps of `dt`, returning the lowest centre height at a step end.
@@ -150,7 +121,7 @@ fn drop_on(wall: &str, xy: [f64; 2], what: &str) -> f64 {
 fn bead_dropped_on_mesh_plate_bounces_at_the_same_time_as_on_a_plane() {
     let free_fall = (2.0 * DROP_GAP / 9.81f64).sqrt();
     for xy in XY {
-        let on_plane = drop_on(FLOOR_PLANE, xy, "plane");
+        let on_plane = drop_on(FLOOR, xy, "plane");
         assert!(
             ((on_plane - free_fall) / free_fall).abs() < 1e-9,
             "plane: impact at {on_plane} s, free fall gives {free_fall} s"

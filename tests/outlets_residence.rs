@@ -1,6 +1,7 @@
 //! Outlets: residence times are measured from birth, and a wall outlet removes what touches it.
 
 mod common;
+use common::fixture::BeadOnFloor;
 
 /// Beads in vacuum (no forces) injected moving up at 1 m/s from a thin disk at z = 0, leaving
 /// through a plane at z = 0.1: each one's residence time is 0.1 s to within a step.
@@ -55,58 +56,18 @@ normal = [0.0, 0.0, -1.0]
 /// touches it, instead of staying on it; its impact is still an event.
 #[test]
 fn wall_outlet_removes_the_particle_that_touches_it() {
-    let scene = common::scene(
-        r#"
-[simulation]
-dt = 1e-3
-duration = 0.5
-output_interval = 0.1
-
-[fluid]
-density = 997.0
-viscosity = 0.89e-3
-
-[effects]
-gravity = {}
-buoyancy = {}
-drag = {}
-
-[[kinds]]
-name = "glass"
-type = "solid"
-density = 2500.0
-youngs_modulus = 6e10
-poisson_ratio = 0.23
-
-[[walls]]
-name = "floor"
-type = "plane"
-point = [0.0, 0.0, 0.0]
-normal = [0.0, 0.0, 1.0]
-
-[[walls]]
-name = "lid"
-type = "plane"
-point = [0.0, 0.0, 0.1]
-normal = [0.0, 0.0, -1.0]
-
-[[particles]]
-kind = "glass"
-diameter = 2e-3
-position = [0.0, 0.0, 0.02]
-
-[[particles]]
-kind = "glass"
-diameter = 2e-3
-position = [0.01, 0.0, 0.09]
-velocity = [0.0, 0.0, 0.5]
-
-[[outlets]]
-name = "drain"
-type = "wall"
-wall = "floor"
-"#,
-    );
+    let lid =
+        "[[walls]]\nname = \"lid\"\ntype = \"plane\"\npoint = [0.0, 0.0, 0.1]\nnormal = [0.0, 0.0, -1.0]\n";
+    let scene = BeadOnFloor::new()
+        .duration(0.5)
+        .output_interval(0.1)
+        .fluid(997.0, 0.89e-3)
+        .effects("gravity = {}\nbuoyancy = {}\ndrag = {}")
+        .wall(lid)
+        .at([0.0, 0.0, 0.02])
+        .particle([0.01, 0.0, 0.09], [0.0, 0.0, 0.5])
+        .extra("[[outlets]]\nname = \"drain\"\ntype = \"wall\"\nwall = \"floor\"")
+        .scene();
     let mut sim = scene.simulation();
     let mut floor_events = 0;
     // Bead 0 reaches the floor at about 0.08 s; bead 1, after the lid, only after 0.3 s.

@@ -2,6 +2,9 @@
 //! channels and schemas, one message per frame and per contact, monotonic log times, the same
 //! positions and events as the CSV files, and the scene file embedded as metadata.
 
+mod common;
+
+use common::fixture::BeadOnFloor;
 use foxglove::Decode;
 use foxglove::messages::{PointCloud, SceneUpdate};
 use std::collections::BTreeMap;
@@ -187,28 +190,9 @@ fn walls_of_every_shape_are_drawn_and_spheres_stop_past_the_limit() {
     let dir = tempfile::tempdir().unwrap();
     let meshes = Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/meshes/plate.obj");
     let scene = dir.path().join("shapes.toml");
-    std::fs::write(
-        &scene,
-        format!(
-            r#"
-[simulation]
-dt = 1e-4
-duration = 0.01
-output_interval = 0.005
-integrator = "rk2"
-[fluid]
-density = 1000.0
-viscosity = 1e-3
-gravity = [0.0, 0.0, -9.81]
-[effects]
-gravity = {{}}
-[[kinds]]
-name = "glass"
-type = "solid"
-density = 2500.0
-youngs_modulus = 6.0e10
-poisson_ratio = 0.23
-restitution_max = 0.97
+    // A cylinder, a box and a mesh, each of glass.
+    let walls = format!(
+        r#"
 [[walls]]
 name = "column"
 type = "cylinder"
@@ -228,19 +212,23 @@ name = "plate"
 type = "mesh"
 file = "{}"
 material = {{ youngs_modulus = 6.0e10, poisson_ratio = 0.23 }}
-[[particles]]
-kind = "glass"
-diameter = 2e-3
-position = [0.0, 0.0, 0.02]
-[[particles]]
-kind = "glass"
-diameter = 2e-3
-position = [0.01, 0.0, 0.02]
 "#,
-            meshes.display()
-        ),
-    )
-    .unwrap();
+        meshes.display()
+    );
+    let text = BeadOnFloor::new()
+        .dt(1e-4)
+        .duration(0.01)
+        .output_interval(0.005)
+        .integrator("rk2")
+        .fluid(1000.0, 1e-3)
+        .gravity([0.0, 0.0, -9.81])
+        .effects("gravity = {}")
+        .restitution_max(0.97)
+        .walls(&walls)
+        .at([0.0, 0.0, 0.02])
+        .at([0.01, 0.0, 0.02])
+        .toml();
+    std::fs::write(&scene, text).unwrap();
     let bytes = run_with_mcap_and_csv(&scene, dir.path(), &["--max-spheres", "1"]);
     let d = decode(&bytes);
     let scene_msgs = &d.messages["/scene"];

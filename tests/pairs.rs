@@ -1,6 +1,7 @@
 //! Particle–particle contacts **[ext]** (PHYSICS.md §2, §4, §5 for pairs).
 
 mod common;
+use common::fixture::BeadOnFloor;
 use glam::DVec3;
 use wetbounce::correlations::{ADDED_MASS_WALL, sphere_volume, spring_pair_contact_time};
 use wetbounce::particles::State;
@@ -98,36 +99,22 @@ fn slow_pair_stays_in_contact_and_moves_at_the_common_velocity() {
 #[test]
 fn many_colliding_beads_conserve_total_momentum_to_round_off() {
     // 64 beads converging on the origin in vacuum, no walls and no forces.
-    let mut text = String::from(
-        r#"
-[simulation]
-dt = 1e-3
-duration = 1.0
-output_interval = 0.1
-[fluid]
-density = 0.0
-viscosity = 0.0
-gravity = [0.0, 0.0, 0.0]
-[[kinds]]
-name = "glass"
-type = "solid"
-density = 2500.0
-youngs_modulus = 6e10
-poisson_ratio = 0.23
-restitution_max = 0.9
-"#,
-    );
+    let mut beads = BeadOnFloor::new()
+        .output_interval(0.1)
+        .vacuum()
+        .gravity([0.0; 3])
+        .effects("")
+        .restitution_max(0.9)
+        .walls("")
+        .diameter(3e-3);
     for i in 0..64 {
         let f = i as f64;
         let x = DVec3::new((f * 1.3).sin(), (f * 2.1).cos(), (f * 0.7).sin()) * 0.02
             + DVec3::new(0.0, 0.0, f * 1e-3);
-        let v = -x * 2.0;
-        text += &format!(
-            "[[particles]]\nkind = \"glass\"\ndiameter = 3e-3\nposition = [{}, {}, {}]\nvelocity = [{}, {}, {}]\n",
-            x.x, x.y, x.z, v.x, v.y, v.z
-        );
+        let v = DVec3::ZERO - x * 2.0; // (0 − 2x: +0.0, not −0.0, where x is 0.)
+        beads = beads.particle(x, v);
     }
-    let mut sim = common::scene(&text).simulation();
+    let mut sim = beads.scene().simulation();
     let momentum = |s: &wetbounce::Simulation| s.world.particles.vel.iter().copied().sum::<DVec3>();
     let before = momentum(&sim);
     // They meet around t = 0.5 s.

@@ -5,46 +5,25 @@
 //! for 10⁶ steps drifts less than 1e-9 m.
 
 mod common;
+use common::fixture::BeadOnFloor;
 use wetbounce::particles::State;
 
 const D: f64 = 2e-3;
 
+/// A 2 mm bead (ν = 0.22, ε_max = `eps_max`) at rest at height `z0` over `floor` (the body of a
+/// `[[walls]]` table), falling in `fluid` (with drag and added mass when it is viscous).
 fn bead_on(fluid: (f64, f64), eps_max: f64, dt: f64, floor: &str, z0: f64) -> wetbounce::Scene {
     let effects = if fluid.1 > 0.0 { "drag = {}\nadded_mass = {}\n" } else { "" };
-    common::scene(&format!(
-        r#"
-[simulation]
-dt = {dt:e}
-duration = 1.0
-output_interval = 1.0
-
-[fluid]
-density = {:e}
-viscosity = {:e}
-
-[effects]
-gravity = {{}}
-buoyancy = {{}}
-{effects}
-[[kinds]]
-name = "bead"
-type = "solid"
-density = 2500.0
-youngs_modulus = 6e10
-poisson_ratio = 0.22
-restitution_max = {eps_max:e}
-
-[[walls]]
-name = "floor"
-{floor}
-
-[[particles]]
-kind = "bead"
-diameter = {D:e}
-position = [0.001, 0.002, {z0:e}]
-"#,
-        fluid.0, fluid.1
-    ))
+    BeadOnFloor::new()
+        .kind("bead")
+        .poisson_ratio(0.22)
+        .restitution_max(eps_max)
+        .fluid(fluid.0, fluid.1)
+        .effects(&format!("gravity = {{}}\nbuoyancy = {{}}\n{effects}"))
+        .dt(dt)
+        .walls(&format!("[[walls]]\nname = \"floor\"\n{floor}\n"))
+        .at([0.001, 0.002, z0])
+        .scene()
 }
 
 const PLANE: &str = "type = \"plane\"\npoint = [0.0, 0.0, 0.0]\nnormal = [0.0, 0.0, 1.0]";

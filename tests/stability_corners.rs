@@ -5,49 +5,22 @@
 //! and after every step each bead is outside every wall.
 
 mod common;
+use common::fixture::BeadOnFloor;
 use glam::DVec3;
 
 const D: f64 = 2e-3;
 
-/// No forces: straight flights, so any rise of the kinetic energy comes from the contacts.
-/// Vacuum (St = ∞: ε = ε_max) or water (St finite: the beads slow down and deposit).
-fn scene(
-    fluid: (f64, f64),
-    eps_max: f64,
-    dt: f64,
-    walls: &str,
-    starts: &[(DVec3, DVec3)],
-) -> wetbounce::Scene {
-    let mut text = format!(
-        r#"
-[simulation]
-dt = {dt:e}
-duration = 1.0
-output_interval = 1.0
-
-[fluid]
-density = {:e}
-viscosity = {:e}
-
-[[kinds]]
-name = "bead"
-type = "solid"
-density = 2500.0
-youngs_modulus = 6e10
-poisson_ratio = 0.22
-restitution_max = {eps_max}
-
-{walls}
-"#,
-        fluid.0, fluid.1
-    );
-    for (x, v) in starts {
-        text += &format!(
-            "[[particles]]\nkind = \"bead\"\ndiameter = {D:e}\nposition = [{:e}, {:e}, {:e}]\nvelocity = [{:e}, {:e}, {:e}]\n",
-            x.x, x.y, x.z, v.x, v.y, v.z
-        );
-    }
-    common::scene(&text)
+/// 2 mm beads (ν = 0.22) with no force acting: straight flights, so any rise of the kinetic
+/// energy comes from the contacts. Vacuum (St = ∞: ε = ε_max) or water (St finite: the beads
+/// slow down and deposit).
+fn beads(fluid: (f64, f64), eps_max: f64, dt: f64) -> BeadOnFloor {
+    BeadOnFloor::new()
+        .kind("bead")
+        .poisson_ratio(0.22)
+        .restitution_max(eps_max)
+        .fluid(fluid.0, fluid.1)
+        .effects("")
+        .dt(dt)
 }
 
 /// Runs `steps` steps, checking after each that every bead is clear of every wall, and that the
@@ -76,10 +49,11 @@ fn run_checked(mut sim: wetbounce::Simulation, steps: usize, what: &str) -> usiz
 
 const VACUUM: (f64, f64) = (0.0, 0.0);
 const WATER: (f64, f64) = (998.2, 1.0e-3);
+/// The inside of a 10 mm cube with a corner at the origin.
+const BOX: &str = "[[walls]]\nname = \"box\"\ntype = \"box\"\nmin = [0.0, 0.0, 0.0]\nmax = [0.01, 0.01, 0.01]\ninside = true\n";
 
 #[test]
 fn beads_thrown_into_a_box_corner_stay_inside_and_never_gain_energy() {
-    let walls = "[[walls]]\nname = \"box\"\ntype = \"box\"\nmin = [0.0, 0.0, 0.0]\nmax = [0.01, 0.01, 0.01]\ninside = true\n";
     for (fluid, eps) in [(VACUUM, 1.0), (VACUUM, 0.5), (WATER, 0.97)] {
         for dt in [1e-4, 1e-2] {
             // Straight into the corner (1, 1, 1) and just off it, fast and slow.
@@ -90,7 +64,7 @@ fn beads_thrown_into_a_box_corner_stay_inside_and_never_gain_energy() {
                 .enumerate()
                 .map(|(k, (x, v))| (x + DVec3::new(0.0, 0.0, (k as f64 - 1.0) * 2.5e-3), v))
                 .collect();
-            let sim = scene(fluid, eps, dt, walls, &starts).simulation();
+            let sim = beads(fluid, eps, dt).walls(BOX).particles(&starts).scene().simulation();
             let n = run_checked(sim, 200, &format!("box corner, {fluid:?}, ε {eps}, dt {dt}"));
             assert!(n >= 3, "only {n} contacts");
         }
@@ -111,7 +85,7 @@ fn beads_thrown_at_the_convex_corner_and_edges_of_a_box_obstacle_stay_outside() 
             .into_iter()
             .map(|(x, v)| (x, 2.0 * v.normalize()))
             .collect();
-            let sim = scene(fluid, eps, dt, walls, &starts).simulation();
+            let sim = beads(fluid, eps, dt).walls(walls).particles(&starts).scene().simulation();
             let n = run_checked(sim, 100, &format!("block corner, {fluid:?}, dt {dt}"));
             assert!(n >= 2, "only {n} contacts");
         }
@@ -139,7 +113,7 @@ fn beads_thrown_at_the_rims_of_an_annular_baffle_stay_outside_and_never_gain_ene
                         starts.push((at - 0.004 * dir, 0.5 * dir));
                     }
                 }
-                let sim = scene(fluid, eps, dt, &walls, &starts).simulation();
+                let sim = beads(fluid, eps, dt).walls(&walls).particles(&starts).scene().simulation();
                 let n = run_checked(sim, 100, &format!("baffle rims, cone {cone}, {fluid:?}, dt {dt}"));
                 assert!(n >= 4, "only {n} contacts");
             }
@@ -160,7 +134,7 @@ fn beads_grazing_the_inside_of_a_cylinder_at_89_degrees_stay_inside() {
                     (x, (1.0 + k as f64) * DVec3::new(a.cos(), a.sin() * 0.99, a.sin() * 0.141))
                 })
                 .collect();
-            let sim = scene(fluid, eps, dt, walls, &starts).simulation();
+            let sim = beads(fluid, eps, dt).walls(walls).particles(&starts).scene().simulation();
             let n = run_checked(sim, 300, &format!("cylinder grazing, {fluid:?}, dt {dt}"));
             assert!(n >= 3, "only {n} contacts");
         }
@@ -172,45 +146,15 @@ fn bead_resting_in_a_box_corner_under_oblique_gravity_stays_in_the_corner() {
     // Regression (found by tests/stability_properties.rs): a bead resting on one face of a box
     // slid through the next face — a resting particle ignores contacts with its own wall, and
     // only the face it rested on was enforced.
-    let text = format!(
-        r#"
-[simulation]
-dt = 1e-2
-duration = 1.0
-output_interval = 1.0
-
-[fluid]
-density = 998.2
-viscosity = 1.0e-3
-gravity = [-5.0, -3.0, -7.0]
-
-[effects]
-gravity = {{}}
-buoyancy = {{}}
-drag = {{}}
-added_mass = {{}}
-
-[[kinds]]
-name = "bead"
-type = "solid"
-density = 2500.0
-youngs_modulus = 6e10
-poisson_ratio = 0.22
-
-[[walls]]
-name = "box"
-type = "box"
-min = [0.0, 0.0, 0.0]
-max = [0.01, 0.01, 0.01]
-inside = true
-
-[[particles]]
-kind = "bead"
-diameter = {D:e}
-position = [0.002, 0.005, 0.005]
-"#
-    );
-    let mut sim = common::scene(&text).simulation();
+    let mut sim = BeadOnFloor::new()
+        .kind("bead")
+        .poisson_ratio(0.22)
+        .dt(1e-2)
+        .gravity([-5.0, -3.0, -7.0])
+        .walls(BOX)
+        .at([0.002, 0.005, 0.005])
+        .scene()
+        .simulation();
     for _ in 0..100 {
         let t = sim.world.time + sim.setup.dt;
         common::run_collect(&mut sim, t);

@@ -6,6 +6,7 @@
 //! goes into a wall, no contact gains energy, and each ends as the bounce rule says.
 
 mod common;
+use common::fixture::{BeadOnFloor, FALLING, FLOOR};
 use glam::DVec3;
 use wetbounce::correlations::stokes_number;
 use wetbounce::particles::State;
@@ -14,55 +15,13 @@ use wetbounce::{Other, Outcome};
 const D: f64 = 2e-3;
 const R: f64 = 0.5 * D;
 
-fn scene(
-    fluid: (f64, f64),
-    effects: &str,
-    bounce: &str,
-    walls: &str,
-    particles: &[(DVec3, DVec3)],
-) -> wetbounce::Scene {
-    let mut text = format!(
-        r#"
-[simulation]
-dt = 1e-3
-duration = 1.0
-output_interval = 1.0
-
-[fluid]
-density = {:e}
-viscosity = {:e}
-
-[bounce]
-{bounce}
-
-[effects]
-{effects}
-
-[[kinds]]
-name = "bead"
-type = "solid"
-density = 2500.0
-youngs_modulus = 6e10
-poisson_ratio = 0.22
-
-{walls}
-"#,
-        fluid.0, fluid.1
-    );
-    for (x, v) in particles {
-        text += &format!(
-            "[[particles]]\nkind = \"bead\"\ndiameter = {D:e}\nposition = [{:?}, {:?}, {:?}]\nvelocity = [{:?}, {:?}, {:?}]\n",
-            x.x, x.y, x.z, v.x, v.y, v.z
-        );
-    }
-    common::scene(&text)
-}
-
 const WATER: (f64, f64) = (998.2, 1.0e-3);
 const VACUUM: (f64, f64) = (0.0, 0.0);
-const FALLING: &str = "gravity = {}\nbuoyancy = {}\ndrag = {}\nadded_mass = {}";
-const FLOOR: &str =
-    "[[walls]]\nname = \"floor\"\ntype = \"plane\"\npoint = [0.0, 0.0, 0.0]\nnormal = [0.0, 0.0, 1.0]\n";
+
+/// A 2 mm bead (ν = 0.22) falling in water onto the floor.
+fn bead() -> BeadOnFloor {
+    BeadOnFloor::new().kind("bead").poisson_ratio(0.22)
+}
 
 fn run(scene: &wetbounce::Scene, t_end: f64) -> (wetbounce::Simulation, Vec<wetbounce::ContactEvent>) {
     let mut sim = scene.simulation();
@@ -88,7 +47,7 @@ fn bead_starting_exactly_on_a_wall_at_rest_deposits_at_once_or_leaves_it() {
     ];
     for (walls, x) in &floors {
         // Pushed into the wall: one contact at V∞ = 0 (St = 0), then it rests where it started.
-        let (sim, events) = run(&scene(WATER, FALLING, "", walls, &[(*x, DVec3::ZERO)]), 0.2);
+        let (sim, events) = run(&bead().walls(walls).at(*x).scene(), 0.2);
         assert_eq!(events.len(), 1, "{walls}: {events:?}");
         assert_eq!((events[0].normal_speed, events[0].st, events[0].outcome), (0.0, 0.0, Outcome::Deposited));
         assert_eq!(sim.world.particles.state[0], State::Resting);
@@ -98,7 +57,7 @@ fn bead_starting_exactly_on_a_wall_at_rest_deposits_at_once_or_leaves_it() {
             sim.world.particles.pos[0]
         );
         // Pulled away (a bead lighter than the fluid: ρp < ρ in a denser fluid): no contact.
-        let light = scene((5000.0, 1.0e-3), FALLING, "", walls, &[(*x, DVec3::ZERO)]);
+        let light = bead().fluid(5000.0, 1.0e-3).walls(walls).at(*x).scene();
         let (sim, events) = run(&light, 0.05);
         assert!(events.is_empty(), "{walls}: {events:?}");
         assert!(sim.world.particles.pos[0].z > x.z, "{walls}: it should rise");
@@ -118,7 +77,7 @@ fn two_beads_starting_exactly_in_contact_stay_finite_without_overlap_or_energy_g
         ],
     ];
     for particles in &cases {
-        let (sim, _) = run(&scene(WATER, FALLING, "", FLOOR, particles), 0.3);
+        let (sim, _) = run(&bead().particles(particles).scene(), 0.3);
         let p = &sim.world.particles;
         assert_eq!(p.len(), 2);
         let gap = (p.pos[1] - p.pos[0]).length() - D;
@@ -135,10 +94,8 @@ fn impact_with_st_exactly_at_st_c_rebounds_and_just_below_deposits() {
     assert!((st - 10.0).abs() < 0.1, "St = {st}");
     for (st_c, outcome) in [(st, Outcome::Bounced), (st.next_up(), Outcome::Deposited)] {
         let bounce = format!("st_critical = {st_c:?}");
-        let (_, events) = run(
-            &scene(WATER, "", &bounce, FLOOR, &[(DVec3::new(0.0, 0.0, 0.003), DVec3::new(0.0, 0.0, -v))]),
-            0.3,
-        );
+        let scene = bead().effects("").bounce(&bounce).particle([0.0, 0.0, 0.003], [0.0, 0.0, -v]).scene();
+        let (_, events) = run(&scene, 0.3);
         let first = events.first().expect("an impact");
         assert_eq!(first.other, Other::Wall(0));
         assert_eq!(first.st, st, "St at contact is computed from V∞ exactly");
@@ -151,10 +108,9 @@ fn contact_with_zero_normal_speed_deposits_with_st_0_in_water_and_in_vacuum() {
     // Touching the floor and sliding along it (V∞ = 0), with gravity holding it there.
     for fluid in [WATER, VACUUM] {
         let effects = if fluid.1 > 0.0 { FALLING } else { "gravity = {}" };
-        let (sim, events) = run(
-            &scene(fluid, effects, "", FLOOR, &[(DVec3::new(0.0, 0.0, R), DVec3::new(0.1, 0.0, 0.0))]),
-            0.1,
-        );
+        let scene =
+            bead().fluid(fluid.0, fluid.1).effects(effects).particle([0.0, 0.0, R], [0.1, 0.0, 0.0]).scene();
+        let (sim, events) = run(&scene, 0.1);
         let first = events.first().expect("a contact");
         assert_eq!((first.normal_speed, first.st, first.eps), (0.0, 0.0, 0.0), "{first:?}");
         assert_eq!(first.outcome, Outcome::Deposited);

@@ -74,6 +74,16 @@ const TOKENS: &[&str] = &[
     "\"../Cargo.toml\"",
     "{ type = \"disk\" }",
     "4294967296",
+    "9223372036854775808",
+    "1e300",
+    "-1e300",
+    "1e155",
+    "1e-300",
+    "[0.0, 0.0, 1.0, 99.0]",
+    "[0.0, 0.0, 1.0, 99.0, \"x\", true]",
+    "[0.0, 0.0, -1e200]",
+    "[1e155, 0.0, 0.0]",
+    "[1e-300, 0.0, 0.0]",
     "-9223372036854775808",
     "1e3",
     "[[",
@@ -183,6 +193,7 @@ fn check_scene(
         prop_assert!(message.starts_with(&format!("{file}: ")), "does not name the file: {message}");
         prop_assert!(!e.key().trim().is_empty(), "does not name a key: {message}");
         prop_assert!(message.len() > file.len() + e.key().len() + 4, "no message: {message}");
+        prop_assert!(!has_long_number(&message), "a number printed in full: {message}");
     }
     Ok(())
 }
@@ -300,4 +311,268 @@ fn long_run_of_mutated_inputs() {
     let cases: u32 = std::env::var("WETBOUNCE_CASES").ok().and_then(|s| s.parse().ok()).unwrap_or(100_000);
     run_scenes(cases);
     run_meshes(cases);
+    run_magnitudes(cases);
+}
+
+// ---- Classes of the adversarial findings of issue 13 (docs/stability.md) ----------------------
+
+/// Every `key = [a, b, c]` of three numbers in `text`: (byte range of the brackets, key name).
+fn vector_literals(text: &str) -> Vec<(std::ops::Range<usize>, String)> {
+    let mut out = Vec::new();
+    let mut line_start = 0;
+    for line in text.split_inclusive('\n') {
+        let code = line.split('#').next().unwrap_or("");
+        let mut from = 0;
+        while let Some(at) = code[from..].find("= [") {
+            let open = from + at + 2;
+            let Some(len) = code[open..].find(']') else { break };
+            let close = open + len + 1;
+            let inner = &code[open + 1..close - 1];
+            let key: String = code[..from + at]
+                .trim_end()
+                .chars()
+                .rev()
+                .take_while(|c| c.is_ascii_alphanumeric() || *c == '_')
+                .collect::<Vec<_>>()
+                .into_iter()
+                .rev()
+                .collect();
+            let numbers = inner.split(',').filter(|t| t.trim().parse::<f64>().is_ok()).count();
+            if !inner.contains('[') && numbers == 3 && inner.split(',').count() == 3 && !key.is_empty() {
+                out.push((line_start + open..line_start + close, key));
+            }
+            from = close;
+        }
+        line_start += line.len();
+    }
+    out
+}
+
+/// What a vector may be replaced with that is not three numbers, and the message's detail.
+const NOT_THREE_NUMBERS: &[(&str, &str)] = &[
+    ("[]", "got 0 values"),
+    ("[1.0]", "got 1 value"),
+    ("[0.0, 1.0]", "got 2 values"),
+    ("[0.0, 0.0, 1.0, 99.0]", "got 4 values"),
+    ("[0.0, 0.0, 1.0, 99.0, 5]", "got 5 values"),
+    ("[0.0, 0.0, 1.0, 99.0, \"x\", true]", "got 6 values"),
+    ("[0.0, \"x\", 1.0]", "component 1 is a string"),
+    ("[true, 0.0, 1.0]", "component 0 is a boolean"),
+    ("[0.0, 0.0, [1.0]]", "component 2 is an array"),
+    ("[0.0, {}, 1.0]", "component 1 is a table"),
+    ("[0.0, 0.0, 1979-05-27]", "component 2 is a table or a date"),
+];
+
+/// Class of finding 6: every 3-vector key of every valid scene, given anything but three
+/// numbers (too few, too many, a string, a boolean, an array, a table, a date), is refused with
+/// an error naming that key and saying what was given — never truncated, never accepted.
+#[test]
+fn every_vector_key_given_anything_but_three_numbers_is_refused_naming_the_key() {
+    let mut checked = 0;
+    for (path, text) in sources() {
+        for (range, key) in vector_literals(&text) {
+            for (replacement, detail) in NOT_THREE_NUMBERS {
+                let mutated = format!("{}{replacement}{}", &text[..range.start], &text[range.end..]);
+                let e = match wetbounce::Scene::from_str(&mutated, &path) {
+                    Ok(_) => panic!("{}: {key} = {replacement} accepted", path.display()),
+                    Err(e) => e,
+                };
+                let message = e.to_string();
+                assert!(
+                    e.key() == key || e.key().ends_with(&format!(".{key}")),
+                    "{}: {key} = {replacement}: the error names {}: {message}",
+                    path.display(),
+                    e.key()
+                );
+                assert!(
+                    message.contains("must be 3 numbers [x, y, z]") && message.contains(detail),
+                    "{}: {key} = {replacement}: {message}",
+                    path.display()
+                );
+                checked += 1;
+            }
+        }
+    }
+    // The sources hold dozens of vectors (positions, normals, corners, gravity, flows, regions).
+    assert!(checked >= 40 * NOT_THREE_NUMBERS.len(), "only {checked} cases");
+}
+
+/// Class of finding 7 (overflow in directions): every direction of every valid scene (a normal,
+/// an axis) multiplied by 2^k, k from -1000 to 1000, gives the very same scene — never a zero
+/// normal, a flow switched off, or an error blaming another key. (Powers of two scale exactly,
+/// so the scenes must be equal bit for bit; `src/scene/error.rs` checks powers of ten.)
+#[test]
+fn every_direction_scaled_by_any_power_of_two_gives_the_same_scene() {
+    let mut checked = 0;
+    for (path, text) in sources() {
+        let Ok(original) = wetbounce::Scene::from_str(&text, &path) else { continue };
+        let shown = |s: &wetbounce::Scene| format!("{:?}{:?}", s.setup, s.particles);
+        let reference = shown(&original);
+        for (range, key) in vector_literals(&text).into_iter().filter(|(_, k)| k == "normal" || k == "axis") {
+            let v: Vec<f64> =
+                text[range.start + 1..range.end - 1].split(',').map(|t| t.trim().parse().unwrap()).collect();
+            for k in [-1000, -600, -300, -1, 1, 300, 600, 1000] {
+                let f = 2f64.powi(k);
+                let scaled = format!("[{:e}, {:e}, {:e}]", v[0] * f, v[1] * f, v[2] * f);
+                let mutated = format!("{}{scaled}{}", &text[..range.start], &text[range.end..]);
+                let scene = wetbounce::Scene::from_str(&mutated, &path)
+                    .unwrap_or_else(|e| panic!("{}: {key} = {scaled}: {e}", path.display()));
+                assert!(shown(&scene) == reference, "{}: {key} = {scaled} changed the scene", path.display());
+                checked += 1;
+            }
+        }
+    }
+    assert!(checked >= 8 * 8, "only {checked} cases");
+}
+
+/// Byte ranges of the float literals of `text` (`2.5e-3`, `-9.81`, `0.0`: a digit and a `.` or
+/// an exponent), as values of keys or components of arrays, outside comments.
+fn float_literals(text: &str) -> Vec<std::ops::Range<usize>> {
+    let mut out = Vec::new();
+    let mut line_start = 0;
+    for line in text.split_inclusive('\n') {
+        let code = line.split('#').next().unwrap_or("");
+        let b = code.as_bytes();
+        let mut i = 0;
+        while i < b.len() {
+            let starts = (b[i].is_ascii_digit() || b[i] == b'-' || b[i] == b'+')
+                && i > 0
+                && matches!(b[i - 1], b' ' | b'[' | b'=' | b',');
+            if !starts {
+                i += 1;
+                continue;
+            }
+            let end = (i..b.len())
+                .find(|&j| !(b[j].is_ascii_alphanumeric() || matches!(b[j], b'.' | b'-' | b'+' | b'_')))
+                .unwrap_or(b.len());
+            let token = &code[i..end];
+            let ends_well = end == b.len() || matches!(b[end], b' ' | b']' | b',' | b'}' | b'\n' | b'\r');
+            if ends_well && token.contains(['.', 'e', 'E']) && token.parse::<f64>().is_ok() {
+                out.push(line_start + i..line_start + end);
+            }
+            i = end.max(i + 1);
+        }
+        line_start += line.len();
+    }
+    out
+}
+
+/// Class of finding 7: any float of any valid scene replaced by a value of any magnitude
+/// (±1e-320 to ±1e308) is either refused — with an error naming the file and a key, in a
+/// message without a 20-digit number — or accepted, and then the scene runs three steps
+/// without a particle going non-finite (what a diameter of 1e-300, a density of 1e300 or a
+/// speed of 1e155 did).
+fn check_magnitude(
+    source: usize,
+    which: usize,
+    mantissa: f64,
+    exponent: i32,
+    sources: &[(PathBuf, String)],
+) -> Result<(), TestCaseError> {
+    let (path, text) = &sources[source % sources.len()];
+    let literals = float_literals(text);
+    let range = literals[which % literals.len()].clone();
+    let value = mantissa * 10f64.powi(exponent);
+    let mutated = format!("{}{value:e}{}", &text[..range.start], &text[range.end..]);
+    let shown = || format!("{}: {} replaced by {value:e}", path.display(), &text[range.clone()]);
+    let loaded = catch_unwind(AssertUnwindSafe(|| wetbounce::Scene::from_str(&mutated, path)));
+    let Ok(result) = loaded else { return Err(TestCaseError::fail(format!("panicked: {}", shown()))) };
+    let scene = match result {
+        Err(e) => {
+            let message = e.to_string();
+            prop_assert!(!e.key().trim().is_empty(), "{}: no key: {message}", shown());
+            prop_assert!(!has_long_number(&message), "{}: a long number: {message}", shown());
+            return Ok(());
+        }
+        Ok(scene) => scene,
+    };
+    ACCEPTED.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+    let mut sim = scene.simulation();
+    let t = (3.0 * sim.setup.dt).min(scene.duration);
+    let stepped = catch_unwind(AssertUnwindSafe(|| sim.advance_to(t)));
+    prop_assert!(stepped.is_ok(), "{}: the step panicked", shown());
+    prop_assert!(
+        sim.record.lost.is_empty(),
+        "{}: {} particles went non-finite",
+        shown(),
+        sim.record.lost.len()
+    );
+    let p = &sim.world.particles;
+    prop_assert!((0..p.len()).all(|i| p.pos[i].is_finite() && p.vel[i].is_finite()), "{}", shown());
+    Ok(())
+}
+
+/// How many mutated scenes [`check_magnitude`] saw accepted (and stepped).
+static ACCEPTED: std::sync::atomic::AtomicUsize = std::sync::atomic::AtomicUsize::new(0);
+
+/// Whether `message` holds a run of more than 20 digits (a number printed in full).
+fn has_long_number(message: &str) -> bool {
+    let mut run = 0;
+    message.chars().any(|c| {
+        run = if c.is_ascii_digit() { run + 1 } else { 0 };
+        run > 20
+    })
+}
+
+fn run_magnitudes(cases: u32) {
+    let sources = sources();
+    let before = ACCEPTED.load(std::sync::atomic::Ordering::Relaxed);
+    let mut runner = TestRunner::new(Config { cases, failure_persistence: None, ..Config::default() });
+    let sign = prop_oneof![Just(1.0), Just(-1.0)];
+    let strategy =
+        (any::<usize>(), any::<usize>(), (sign, 1.0f64..10.0).prop_map(|(s, m)| s * m), -320i32..308);
+    let start = std::time::Instant::now();
+    runner.run(&strategy, |(s, which, m, e)| check_magnitude(s, which, m, e, &sources)).unwrap();
+    // Most magnitudes are refused; enough must be accepted for the stepping half to count.
+    let accepted = ACCEPTED.load(std::sync::atomic::Ordering::Relaxed) - before;
+    println!(
+        "any float of any magnitude: {cases} cases, {accepted} accepted and stepped, in {:.1} s",
+        start.elapsed().as_secs_f64()
+    );
+    assert!(accepted as u32 >= cases / 10, "only {accepted} of {cases} accepted");
+}
+
+#[test]
+fn any_float_of_any_magnitude_is_refused_with_a_short_message_or_steps_finitely() {
+    run_magnitudes(400);
+}
+
+/// Class of finding 8 (absurd runs): for any duration, output interval and time step in the
+/// range of times, the scene is refused for its run length exactly when it asks for more than
+/// 10⁷ frames or 10¹⁰ steps, the message saying the count; with `allow_long_run` never.
+#[test]
+fn run_length_is_refused_exactly_beyond_the_frame_and_step_limits() {
+    use wetbounce::scene::{LoadOptions, MAX_FRAMES, MAX_STEPS};
+    let path = root().join("scenes/glass_bead.toml");
+    let text = std::fs::read_to_string(&path).unwrap();
+    let mut runner = TestRunner::new(Config { cases: 300, failure_persistence: None, ..Config::default() });
+    let exponent = -12.0f64..9.0;
+    let strategy = (exponent.clone(), exponent.clone(), exponent);
+    runner
+        .run(&strategy, |(d, o, h)| {
+            let (duration, interval, dt) = (10f64.powf(d), 10f64.powf(o), 10f64.powf(h));
+            let mutated = text
+                .replace("dt = 2e-4 ", &format!("dt = {dt:e} "))
+                .replace("duration = 1.0 ", &format!("duration = {duration:e} "))
+                .replace("output_interval = 1e-3 ", &format!("output_interval = {interval:e} "))
+                .replace("integrator = \"rk2\"", "integrator = \"exponential\"");
+            prop_assert!(mutated != text);
+            let too_long = duration / interval > MAX_FRAMES || duration / dt > MAX_STEPS;
+            match wetbounce::Scene::from_str(&mutated, &path) {
+                Ok(_) => prop_assert!(!too_long, "{duration:e} / {interval:e} / {dt:e} accepted"),
+                Err(e) => {
+                    let message = e.to_string();
+                    let about_length =
+                        message.contains(" frames, more than") || message.contains(" steps, more than");
+                    prop_assert_eq!(about_length, too_long, "{}", message);
+                }
+            }
+            let allowed =
+                wetbounce::Scene::from_str_with(&mutated, &path, LoadOptions { allow_long_run: true });
+            if let Err(e) = allowed {
+                prop_assert!(!e.to_string().contains("more than the 1e"), "{e}");
+            }
+            Ok(())
+        })
+        .unwrap();
 }

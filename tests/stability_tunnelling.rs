@@ -4,6 +4,7 @@
 //! 100 m/s, up to 80° from the normal) on the three thin walls: zero crossings.
 
 mod common;
+use common::fixture::BeadOnFloor;
 use glam::DVec3;
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
@@ -24,45 +25,16 @@ const WALLS: [(&str, &str, f64); 3] = [
     ),
 ];
 
+/// A 2 mm bead (ν = 0.22) in water, with no drag, starting 15 cm above the plate `wall` at
+/// `velocity`.
 fn scene(wall: &str, dt: f64, velocity: DVec3) -> wetbounce::Scene {
-    common::scene(&format!(
-        r#"
-[simulation]
-dt = {dt:e}
-duration = 1.0
-output_interval = 1.0
-
-[fluid]
-density = 998.2
-viscosity = 1.0e-3
-
-[effects]
-gravity = {{}}
-buoyancy = {{}}
-added_mass = {{}}
-
-[[kinds]]
-name = "glass"
-type = "solid"
-density = 2500.0
-youngs_modulus = 6e10
-poisson_ratio = 0.22
-
-[[walls]]
-name = "plate"
-{wall}
-
-[[particles]]
-kind = "glass"
-diameter = {D:e}
-position = [0.0, 0.0, {z:e}]
-velocity = [{:e}, {:e}, {:e}]
-"#,
-        velocity.x,
-        velocity.y,
-        velocity.z,
-        z = 0.3 * 0.5
-    ))
+    BeadOnFloor::new()
+        .poisson_ratio(0.22)
+        .dt(dt)
+        .effects("gravity = {}\nbuoyancy = {}\nadded_mass = {}")
+        .walls(&format!("[[walls]]\nname = \"plate\"\n{wall}\n"))
+        .particle([0.0, 0.0, 0.15], velocity)
+        .scene()
 }
 
 #[test]

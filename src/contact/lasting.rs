@@ -294,8 +294,9 @@ fn solve_velocities<M: Motion>(
         // A sphere grown by twice the tolerance: clear of it, no part is within the tolerance.
         let near = |wall: &&crate::walls::Wall| wall.shape.may_touch(x[i], x[i], r * (1.0 + 2.0 * TOLERANCE));
         for wall in ctx.walls().iter().filter(near) {
-            wall.shape
-                .touching(x[i], r, TOLERANCE * r, |g| walls.push(WallRow { k, n: g.normal, impulse: 0.0 }));
+            wall.shape.touching(x[i], r, TOLERANCE * r, |_, g| {
+                walls.push(WallRow { k, n: g.normal, impulse: 0.0 })
+            });
         }
     }
     let mut rows: Vec<PairRow> = contacts

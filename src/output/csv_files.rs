@@ -1,19 +1,27 @@
-//! The CSV sinks.
+//! The CSV sinks. Each flushes at every output frame (and after its header), so a run that is
+//! killed or whose disk fills keeps every whole frame and every event up to its last frame.
 
+use super::file::OutputFile;
 use super::{OutputError, Sink};
 use crate::contact::ContactEvent;
 use crate::pipeline::{LostParticle, Simulation};
-use std::fs::File;
-use std::io::BufWriter;
 use std::path::{Path, PathBuf};
 
-type Writer = csv::Writer<BufWriter<File>>;
+type Writer = csv::Writer<OutputFile>;
 
 fn create(path: &Path, header: &[&str]) -> Result<Writer, OutputError> {
-    let file = File::create(path).map_err(|e| OutputError::new(path, e))?;
-    let mut w = csv::Writer::from_writer(BufWriter::with_capacity(1 << 20, file));
-    w.write_record(header).map_err(|e| OutputError::new(path, e))?;
+    let file = OutputFile::create(path, 1 << 20)?;
+    let mut w = csv::Writer::from_writer(file);
+    w.write_record(header).map_err(|e| OutputError::write(path, e))?;
+    // The header reaches the file at once: a run stopped before its first event still leaves
+    // a readable events.csv, and a file that cannot be written fails before the run starts.
+    w.flush().map_err(|e| OutputError::write(path, e))?;
     Ok(w)
+}
+
+/// Flushes what is left and syncs the file to the disk.
+fn finish(w: &mut Writer, path: &Path) -> Result<(), OutputError> {
+    w.flush().and_then(|()| w.get_ref().sync_data()).map_err(|e| OutputError::write(path, e))
 }
 
 /// `trajectories.csv`: `t,id,x,y,z,vx,vy,vz,state`, SI units, one row per particle per frame.
@@ -38,13 +46,13 @@ impl Sink for TrajectoryCsv {
             let (x, v) = (p.pos[i], p.vel[i]);
             self.w
                 .serialize((sim.world.time, p.id[i], x.x, x.y, x.z, v.x, v.y, v.z, p.state[i].name()))
-                .map_err(|e| OutputError::new(&self.path, e))?;
+                .map_err(|e| OutputError::write(&self.path, e))?;
         }
-        Ok(())
+        self.w.flush().map_err(|e| OutputError::write(&self.path, e))
     }
 
     fn finish(&mut self) -> Result<(), OutputError> {
-        self.w.flush().map_err(|e| OutputError::new(&self.path, e))
+        finish(&mut self.w, &self.path)
     }
 }
 
@@ -65,6 +73,11 @@ impl EventCsv {
 }
 
 impl Sink for EventCsv {
+    /// The events since the last frame reach the file.
+    fn frame(&mut self, _sim: &Simulation) -> Result<(), OutputError> {
+        self.w.flush().map_err(|e| OutputError::write(&self.path, e))
+    }
+
     fn events(&mut self, sim: &Simulation, events: &[ContactEvent]) -> Result<(), OutputError> {
         for e in events {
             let (other, kind) = sim.setup.name_of(e.other);
@@ -80,7 +93,7 @@ impl Sink for EventCsv {
                     e.contact_time,
                     e.outcome.name(),
                 ))
-                .map_err(|err| OutputError::new(&self.path, err))?;
+                .map_err(|err| OutputError::write(&self.path, err))?;
         }
         Ok(())
     }
@@ -91,12 +104,12 @@ impl Sink for EventCsv {
         for l in lost {
             self.w
                 .serialize((l.time, l.id, "", "removed", none, none, none, none, "non_finite"))
-                .map_err(|err| OutputError::new(&self.path, err))?;
+                .map_err(|err| OutputError::write(&self.path, err))?;
         }
         Ok(())
     }
 
     fn finish(&mut self) -> Result<(), OutputError> {
-        self.w.flush().map_err(|e| OutputError::new(&self.path, e))
+        finish(&mut self.w, &self.path)
     }
 }

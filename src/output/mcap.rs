@@ -11,7 +11,12 @@
 //!
 //! Metadata records `scene` (`path`, `source`: the scene file's text) and `wetbounce`
 //! (`version`), so every result carries its inputs.
+//!
+//! Each frame closes the current chunk: the chunk holds the events since the last frame and
+//! the frame's messages, and reaches the file before the run goes on, so that a file cut short
+//! (a killed run, a full disk) holds every frame but the last; [`recover`] reads them back.
 
+use super::file::OutputFile;
 use super::geometry::{self, Solid, WALL_COLOR};
 use super::{OutputError, Sink};
 use crate::contact::ContactEvent;
@@ -27,10 +32,11 @@ use foxglove::{
 };
 use glam::{DQuat, DVec3};
 use std::collections::BTreeMap;
-use std::fs::File;
-use std::io::BufWriter;
 use std::path::PathBuf;
-use std::sync::Arc;
+use std::sync::{Arc, OnceLock};
+
+mod recover;
+pub use recover::{Recovered, recover};
 
 /// Topic of the point clouds.
 pub const PARTICLES_TOPIC: &str = "/particles";
@@ -85,7 +91,13 @@ pub struct McapSink {
     // Channels hold only a weak reference to their context: the sink keeps it alive.
     _ctx: Arc<Context>,
     // Dropping the handle would also close the file; `finish` closes it to see the error.
-    writer: Option<McapWriterHandle<BufWriter<File>>>,
+    writer: Option<McapWriterHandle<OutputFile>>,
+    // The file's first OS error: the foxglove writer logs a failed write to `tracing` (nowhere
+    // here) and answers every later call with "attempted another write after a write method
+    // failed", which hides the cause.
+    first_error: Arc<OnceLock<String>>,
+    // An error was reported: the file cannot be finished, and is not named twice.
+    failed: bool,
     particles: Channel<PointCloud>,
     scene: Channel<SceneUpdate>,
     events: Arc<RawChannel>,
@@ -93,6 +105,11 @@ pub struct McapSink {
     spheres_shown: bool,
     json: Vec<u8>,
     order: Vec<usize>,
+}
+
+/// The file's first OS error if there was one, else `e`.
+fn first_error_or(first_error: &OnceLock<String>, e: &dyn std::fmt::Display) -> String {
+    first_error.get().cloned().unwrap_or_else(|| e.to_string())
 }
 
 /// Simulated time as MCAP log time (ns from 0); the ns are rounded so that frames at exact
@@ -129,16 +146,15 @@ impl McapSink {
     /// Creates the file at `path` and writes the metadata.
     pub fn create(path: impl Into<PathBuf>, options: McapOptions) -> Result<Self, OutputError> {
         let path = path.into();
-        let err = |e: &dyn std::fmt::Display| OutputError::new(&path, e);
-        let file = File::create(&path).map_err(|e| err(&e))?;
+        let file = OutputFile::create(&path, 1 << 16)?;
+        let first_error = file.first_error();
+        let err = |e: &dyn std::fmt::Display| OutputError::write(&path, first_error_or(&first_error, e));
         // A context of its own: the default one is global, and two runs in one process (the
         // tests) must not write into each other's files.
         let ctx = Context::new();
         let write_options = McapWriteOptions::new().compression(Some(McapCompression::Zstd));
-        let writer = McapWriter::with_options(write_options)
-            .context(&ctx)
-            .create(BufWriter::new(file))
-            .map_err(|e| err(&e))?;
+        let writer =
+            McapWriter::with_options(write_options).context(&ctx).create(file).map_err(|e| err(&e))?;
         let metadata = |pairs: &[(&str, &str)]| -> BTreeMap<String, String> {
             pairs.iter().map(|(k, v)| (k.to_string(), v.to_string())).collect()
         };
@@ -159,11 +175,16 @@ impl McapSink {
             .schema(Schema::new("wetbounce.ContactEvent", "jsonschema", EVENT_SCHEMA.as_bytes().to_vec()))
             .build_raw()
             .map_err(|e| err(&e))?;
+        // The header and metadata reach the file now: a file that cannot be written fails before
+        // the run starts, and the first chunk starts with an empty buffer.
+        writer.flush().map_err(|e| err(&e))?;
         Ok(McapSink {
             path,
             options,
             _ctx: ctx,
             writer: Some(writer),
+            first_error,
+            failed: false,
             particles,
             scene,
             events,
@@ -172,6 +193,29 @@ impl McapSink {
             json: Vec::new(),
             order: Vec::new(),
         })
+    }
+
+    /// The error that stops the run: the file's first OS error if there was one (else `e`),
+    /// and how to read back what was written.
+    fn fail(&mut self, e: &dyn std::fmt::Display) -> OutputError {
+        self.failed = true;
+        let cause = first_error_or(&self.first_error, e);
+        OutputError::write(
+            &self.path,
+            format!(
+                "{cause}; the frames written before are read back by `wetbounce recover {}`",
+                self.path.display()
+            ),
+        )
+    }
+
+    /// Fails if a message written since the last check could not be written: the foxglove
+    /// channels do not return their errors.
+    fn check(&mut self) -> Result<(), OutputError> {
+        match self.first_error.get() {
+            Some(e) => Err(self.fail(&e.clone())),
+            None => Ok(()),
+        }
     }
 
     fn write_walls(&mut self, sim: &Simulation) {
@@ -299,22 +343,34 @@ fn number(x: f64) -> Option<f64> {
 
 impl Sink for McapSink {
     fn frame(&mut self, sim: &Simulation) -> Result<(), OutputError> {
+        // Checked before and after each message: the writer must get no call after a failed one.
+        self.check()?;
         if !self.walls_written {
             self.write_walls(sim);
             self.walls_written = true;
+            self.check()?;
         }
         self.write_points(sim);
+        self.check()?;
         self.write_spheres(sim);
-        Ok(())
+        self.check()?;
+        // The chunk ends with the frame, and reaches the file.
+        let flushed = match &self.writer {
+            Some(w) => w.flush(),
+            None => Ok(()),
+        };
+        flushed.map_err(|e| self.fail(&e))?;
+        self.check()
     }
 
     fn events(&mut self, sim: &Simulation, events: &[ContactEvent]) -> Result<(), OutputError> {
+        self.check()?;
         // Events arrive in time order per particle only; a viewer wants one time order.
         self.order.clear();
         self.order.extend(0..events.len());
         self.order.sort_by(|&a, &b| events[a].time.total_cmp(&events[b].time));
-        for &k in &self.order {
-            let e = &events[k];
+        for i in 0..self.order.len() {
+            let e = &events[self.order[i]];
             let (other, kind) = sim.setup.name_of(e.other);
             let message = EventMessage {
                 t: number(e.time),
@@ -329,13 +385,15 @@ impl Sink for McapSink {
             };
             self.json.clear();
             serde_json::to_writer(&mut self.json, &message)
-                .map_err(|err| OutputError::new(&self.path, err))?;
+                .map_err(|err| OutputError::write(&self.path, err))?;
             self.events.log_with_meta(&self.json, PartialMetadata::with_log_time(log_time_ns(e.time)));
+            self.check()?;
         }
         Ok(())
     }
 
     fn lost(&mut self, _sim: &Simulation, lost: &[LostParticle]) -> Result<(), OutputError> {
+        self.check()?;
         for l in lost {
             let message = EventMessage {
                 t: number(l.time),
@@ -350,20 +408,21 @@ impl Sink for McapSink {
             };
             self.json.clear();
             serde_json::to_writer(&mut self.json, &message)
-                .map_err(|err| OutputError::new(&self.path, err))?;
+                .map_err(|err| OutputError::write(&self.path, err))?;
             self.events.log_with_meta(&self.json, PartialMetadata::with_log_time(log_time_ns(l.time)));
+            self.check()?;
         }
         Ok(())
     }
 
+    /// Writes the summary and footer, and syncs the file. A file that failed is left as it is:
+    /// its error was reported, and the writer refuses to go on after a failed write.
     fn finish(&mut self) -> Result<(), OutputError> {
-        match self.writer.take() {
-            Some(w) => {
-                let buffered = w.close().map_err(|e| OutputError::new(&self.path, e))?;
-                // `into_inner` flushes and reports what a drop would swallow.
-                buffered.into_inner().map(drop).map_err(|e| OutputError::new(&self.path, e.error()))
-            }
-            None => Ok(()),
+        let Some(w) = self.writer.take() else { return Ok(()) };
+        if self.failed {
+            return Ok(());
         }
+        let mut file = w.close().map_err(|e| self.fail(&e))?;
+        file.sync().map_err(|e| self.fail(&e))
     }
 }

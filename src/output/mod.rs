@@ -7,9 +7,12 @@
 //! - [`RerunSink`] (feature `rerun`): `<scene>.rrd`, rerun's native recording;
 //! - [`Progress`]: the progress bar on standard error.
 //!
-//! [`RunSummary`] is the table printed at the end of a run.
+//! [`RunSummary`] is the table printed at the end of a run; [`file::write_file`] writes its
+//! JSON form. Every file is written through [`file::OutputFile`]: flushed at every frame, synced
+//! to the disk about once a second, every error naming the file and the OS error.
 
 mod csv_files;
+pub mod file;
 pub mod geometry;
 pub mod mcap;
 mod progress;
@@ -30,7 +33,8 @@ use crate::contact::ContactEvent;
 use crate::pipeline::{LostParticle, Simulation};
 use std::path::PathBuf;
 
-/// A failure to write an output file.
+/// A failure to write an output file: `FILE: cannot write: CAUSE`, with the OS error in the cause
+/// (`No space left on device (os error 28)`).
 #[derive(Debug, thiserror::Error)]
 #[error("{path}: {message}")]
 pub struct OutputError {
@@ -45,11 +49,24 @@ impl OutputError {
     pub fn new(path: impl Into<PathBuf>, e: impl std::fmt::Display) -> Self {
         OutputError { path: path.into(), message: e.to_string() }
     }
+
+    /// `path` could not be created (or opened for writing).
+    pub fn create(path: impl Into<PathBuf>, e: impl std::fmt::Display) -> Self {
+        OutputError::new(path, format!("cannot create: {e}"))
+    }
+
+    /// Writing (or flushing) `path` failed.
+    pub fn write(path: impl Into<PathBuf>, e: impl std::fmt::Display) -> Self {
+        OutputError::new(path, format!("cannot write: {e}"))
+    }
 }
 
 /// Something that receives a run's frames and events. Every method defaults to doing nothing.
 pub trait Sink {
     /// A frame at the simulation's current time (called at t = 0 and every output interval).
+    /// A sink that writes a file hands the frame, and the events since the last one, to the
+    /// operating system before it returns, so that a run killed outright (SIGKILL, an OOM kill)
+    /// loses at most the frame it was writing.
     fn frame(&mut self, _sim: &Simulation) -> Result<(), OutputError> {
         Ok(())
     }

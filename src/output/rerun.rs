@@ -44,7 +44,7 @@ impl RerunSink {
         let rec = rerun::RecordingStreamBuilder::new("wetbounce")
             .recording_name(name)
             .save(&path)
-            .map_err(|e| OutputError::new(&path, e))?;
+            .map_err(|e| OutputError::create(&path, e))?;
         let mut sink = RerunSink { path, rec: Some(rec), walls_written: false };
         sink.log_static("scene", &rerun::TextDocument::new(scene_source))?;
         // Scenes put gravity along −z.
@@ -57,11 +57,11 @@ impl RerunSink {
     }
 
     fn log_static(&mut self, entity: &str, what: &impl rerun::AsComponents) -> Result<(), OutputError> {
-        self.rec()?.log_static(entity, what).map_err(|e| OutputError::new(&self.path, e))
+        self.rec()?.log_static(entity, what).map_err(|e| OutputError::write(&self.path, e))
     }
 
     fn log(&self, entity: &str, what: &impl rerun::AsComponents) -> Result<(), OutputError> {
-        self.rec()?.log(entity, what).map_err(|e| OutputError::new(&self.path, e))
+        self.rec()?.log(entity, what).map_err(|e| OutputError::write(&self.path, e))
     }
 
     fn write_walls(&mut self, sim: &Simulation) -> Result<(), OutputError> {
@@ -111,7 +111,10 @@ impl Sink for RerunSink {
                 .with_colors(p.state.iter().map(|s| rgba(geometry::state_color(*s))))
                 .with_labels(p.id.iter().map(|id| id.to_string()))
                 .with_show_labels(false),
-        )
+        )?;
+        // The frame, and the events since the last one, reach the file before the run goes on
+        // (the recording is written by a thread of rerun's; this waits for it).
+        self.rec()?.flush_blocking().map_err(|e| OutputError::write(&self.path, e))
     }
 
     fn events(&mut self, sim: &Simulation, events: &[ContactEvent]) -> Result<(), OutputError> {
@@ -146,7 +149,7 @@ impl Sink for RerunSink {
 
     fn finish(&mut self) -> Result<(), OutputError> {
         match self.rec.take() {
-            Some(rec) => rec.flush_blocking().map_err(|e| OutputError::new(&self.path, e)),
+            Some(rec) => rec.flush_blocking().map_err(|e| OutputError::write(&self.path, e)),
             None => Ok(()),
         }
     }

@@ -1,11 +1,16 @@
 //! From the parsed file to a validated [`Scene`].
 
-use super::Scene;
 use super::accuracy::auto_step;
 use super::error::check::{self, forbid, only, required};
+use super::error::fmt::{num, shorten_long_numbers, vec3};
 use super::error::{Invalid, SceneError};
+use super::ranges::{
+    self, DENSITY, FLUID_DENSITY, GRAVITY, LENGTH, SPEED, SURFACE_TENSION, TIME, VISCOSITY, YOUNGS_MODULUS,
+};
+use super::run_length::{TooLong, run_length};
 use super::schema::*;
 use super::stiffness::stiffest_drag;
+use super::{LoadOptions, Scene};
 use super::{fill, flux, walls};
 use crate::contact::BounceRule;
 use crate::effects::{Physics, build_effect};
@@ -32,7 +37,7 @@ pub(super) fn parse(source: &str, path: &Path) -> Result<SceneFile, SceneError> 
         SceneError::Parse {
             file: path.to_path_buf(),
             key,
-            message: format!("{}{}", e.message().trim_end(), at.unwrap_or_default()),
+            message: shorten_long_numbers(&format!("{}{}", e.message().trim_end(), at.unwrap_or_default())),
         }
     };
     let de = toml::de::Deserializer::parse(source).map_err(|e| located("(top level)".into(), &e))?;
@@ -54,15 +59,24 @@ fn line_of(source: &str, at: usize) -> usize {
     source[..at.min(source.len())].matches('\n').count() + 1
 }
 
-pub(super) fn build(file: SceneFile, base: &Path, source: &str) -> Result<Scene, Invalid> {
+pub(super) fn build(
+    file: SceneFile,
+    base: &Path,
+    source: &str,
+    options: LoadOptions,
+) -> Result<Scene, Invalid> {
     let sim = &file.simulation;
     let dt = match sim.dt {
         DtSpec::Seconds(dt) => {
-            let dt = check::positive("simulation.dt", dt)?;
+            let dt = check::positive_in("simulation.dt", dt, &TIME)?;
             if let Some(a) = sim.accuracy {
                 return Err(Invalid::new(
                     "simulation.accuracy",
-                    format!("only with dt = \"auto\" (it chooses dt), got \"{}\" with dt = {dt}", a.name()),
+                    format!(
+                        "only with dt = \"auto\" (it chooses dt), got \"{}\" with dt = {}",
+                        a.name(),
+                        num(dt)
+                    ),
                 ));
             }
             dt
@@ -81,8 +95,8 @@ pub(super) fn build(file: SceneFile, base: &Path, source: &str) -> Result<Scene,
             f64::NAN // chosen below, once the scene's time scales are known
         }
     };
-    let duration = check::positive("simulation.duration", sim.duration)?;
-    let output_interval = check::positive("simulation.output_interval", sim.output_interval)?;
+    let duration = check::positive_in("simulation.duration", sim.duration, &TIME)?;
+    let output_interval = check::positive_in("simulation.output_interval", sim.output_interval, &TIME)?;
 
     let fluid = build_fluid(&file.fluid)?;
     let kinds = build_kinds(&file.kinds)?;
@@ -103,10 +117,14 @@ pub(super) fn build(file: SceneFile, base: &Path, source: &str) -> Result<Scene,
         effects.push(effect);
     }
     let physics = Physics::build(&fluid, &kinds, &effects);
+    if file.effects.contains_key("added_mass") {
+        // The effect checks the sign itself; the range is the scene's (ranges.rs).
+        ranges::ADDED_MASS.check("effects.added_mass.coefficient", physics.added_mass_coefficient)?;
+    }
     if physics.drag.is_some() && fluid.viscosity <= 0.0 {
         return Err(Invalid::new(
             "fluid.viscosity",
-            format!("must be > 0 with the drag effect, got {}", fluid.viscosity),
+            format!("must be > 0 with the drag effect, got {}", num(fluid.viscosity)),
         ));
     }
 
@@ -129,7 +147,7 @@ pub(super) fn build(file: SceneFile, base: &Path, source: &str) -> Result<Scene,
             format!(
                 "must be > {EQ4_POLE:.3} with solid particles (the contact time of L06 eq. 4 \
                  diverges there), got {}",
-                rule.st_critical
+                num(rule.st_critical)
             ),
         ));
     }
@@ -163,14 +181,23 @@ pub(super) fn build(file: SceneFile, base: &Path, source: &str) -> Result<Scene,
     }
     // After `dt = "auto"` has chosen: its step is far inside the limit, and this says so.
     check_stable_step(&scene.setup, &scene.particles)?;
+    if !options.allow_long_run {
+        run_length(duration, output_interval, scene.setup.dt).map_err(|e| {
+            let key = match e {
+                TooLong::Frames(_) => "simulation.output_interval",
+                TooLong::Steps(_) => "simulation.duration",
+            };
+            Invalid::new(key, e.to_string())
+        })?;
+    }
     Ok(scene)
 }
 
 fn build_fluid(f: &FluidSpec) -> Result<Fluid, Invalid> {
     Ok(Fluid {
-        density: check::non_negative("fluid.density", f.density)?,
-        viscosity: check::non_negative("fluid.viscosity", f.viscosity)?,
-        gravity: check::vector("fluid.gravity", f.gravity)?,
+        density: check::non_negative_in("fluid.density", f.density, &FLUID_DENSITY)?,
+        viscosity: check::non_negative_in("fluid.viscosity", f.viscosity, &VISCOSITY)?,
+        gravity: check::magnitude_in("fluid.gravity", f.gravity, &GRAVITY)?,
         flow: build_flow(&f.flow)?,
     })
 }
@@ -197,15 +224,15 @@ fn build_flow(f: &FlowSpec) -> Result<Flow, Invalid> {
         FlowType::Quiescent => Flow::Quiescent,
         FlowType::Uniform => {
             let v = required(&k("velocity"), f.velocity, what)?;
-            Flow::Uniform(check::vector(&k("velocity"), v)?)
+            Flow::Uniform(check::magnitude_in(&k("velocity"), v, &SPEED)?)
         }
         FlowType::Poiseuille => {
-            let point = check::vector(&k("point"), required(&k("point"), f.point, what)?)?;
-            let axis = check::direction(&k("axis"), f.axis.unwrap_or([0.0, 0.0, 1.0]))?;
-            let radius = check::positive(&k("radius"), required(&k("radius"), f.radius, what)?)?;
+            let point = check::point(&k("point"), required(&k("point"), f.point, what)?)?;
+            let axis = check::direction(&k("axis"), f.axis.unwrap_or(Vec3Spec([0.0, 0.0, 1.0])))?;
+            let radius = check::positive_in(&k("radius"), required(&k("radius"), f.radius, what)?, &LENGTH)?;
             let max_velocity = match (f.mean_velocity, f.max_velocity) {
-                (Some(mean), None) => 2.0 * check::finite(&k("mean_velocity"), mean)?,
-                (None, Some(max)) => check::finite(&k("max_velocity"), max)?,
+                (Some(mean), None) => 2.0 * check::signed_in(&k("mean_velocity"), mean, &SPEED)?,
+                (None, Some(max)) => check::signed_in(&k("max_velocity"), max, &SPEED)?,
                 (Some(_), Some(_)) => {
                     return Err(Invalid::new(
                         k("max_velocity"),
@@ -236,9 +263,10 @@ fn build_kinds(specs: &[KindSpec]) -> Result<Vec<ParticleKind>, Invalid> {
             KindType::Solid => {
                 forbid(&key("surface_tension"), spec.surface_tension.is_some(), "a solid (drops have it)")?;
                 Material::Solid {
-                    youngs_modulus: check::positive(
+                    youngs_modulus: check::positive_in(
                         &key("youngs_modulus"),
                         required(&key("youngs_modulus"), spec.youngs_modulus, "a solid")?,
+                        &YOUNGS_MODULUS,
                     )?,
                     poisson_ratio: poisson(
                         &key("poisson_ratio"),
@@ -251,9 +279,10 @@ fn build_kinds(specs: &[KindSpec]) -> Result<Vec<ParticleKind>, Invalid> {
                 forbid(&key("poisson_ratio"), spec.poisson_ratio.is_some(), "a drop (solids have it)")?;
                 required(&key("restitution_max"), spec.restitution_max, "a drop")?;
                 Material::Drop {
-                    surface_tension: check::positive(
+                    surface_tension: check::positive_in(
                         &key("surface_tension"),
                         required(&key("surface_tension"), spec.surface_tension, "a drop")?,
+                        &SURFACE_TENSION,
                     )?,
                 }
             }
@@ -271,7 +300,7 @@ fn build_kinds(specs: &[KindSpec]) -> Result<Vec<ParticleKind>, Invalid> {
         }
         kinds.push(ParticleKind {
             name: name.clone(),
-            density: check::positive(&key("density"), density)?,
+            density: check::positive_in(&key("density"), density, &DENSITY)?,
             restitution_max: check::in_range(&key("restitution_max"), restitution_max, 0.0, 1.0)?,
             material,
         });
@@ -284,7 +313,7 @@ pub(super) fn poisson(key: &str, v: f64) -> Result<f64, Invalid> {
     if v > -1.0 && v <= 0.5 {
         Ok(v)
     } else {
-        Err(Invalid::new(key, format!("must be in (-1, 0.5], got {v}")))
+        Err(Invalid::new(key, format!("must be in (-1, 0.5], got {}", num(v))))
     }
 }
 
@@ -303,16 +332,17 @@ fn check_stable_step(setup: &Setup, particles: &Particles) -> Result<(), Invalid
     Err(Invalid::new(
         "simulation.dt",
         format!(
-            "{dt} s is not below the largest stable step of the {} integrator, {} s \
+            "{} s is not below the largest stable step of the {} integrator, {} s \
              ({:.3} τ, τ = {:.3e} s the shortest drag relaxation time, linearised, of kind \"{}\" \
              at d = {} m and slip speed {:.3e} m/s); use a smaller dt, or integrator = \
              \"exponential\", which is stable at any dt",
+            num(dt),
             integrator.name(),
             round_down(limit),
             integrator.stability_interval(),
             1.0 / s.rate,
             kinds[s.kind].name,
-            s.diameter,
+            num(s.diameter),
             s.slip_speed,
         ),
     ))
@@ -335,8 +365,11 @@ fn check_clear_of_walls(origins: &fill::Origins, p: &Particles, walls: &[Wall]) 
                 return Err(Invalid::new(
                     fill::origin_key(origins, i),
                     format!(
-                        "particle at [{}, {}, {}] (d = {} m) starts inside wall \"{}\": it overlaps by {:.3e} m",
-                        x.x, x.y, x.z, p.diameter[i], wall.name, -g.gap
+                        "particle at {} (d = {} m) starts inside wall \"{}\": it overlaps by {:.3e} m",
+                        vec3(x.to_array()),
+                        num(p.diameter[i]),
+                        wall.name,
+                        -g.gap
                     ),
                 ));
             }

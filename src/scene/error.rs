@@ -58,9 +58,81 @@ impl Invalid {
     }
 }
 
+/// How numbers are written in scene messages: one helper, so that no message prints a huge
+/// or tiny value digit by digit (`{}` writes 1e300 as 301 digits).
+pub(crate) mod fmt {
+    /// The shortest text that reads back as `v`: plain from 1e-4 up to 1e4 (`0.001`, `2500`,
+    /// `-0.00089`), scientific outside (`1e300`, `1e4`, `6.3e10`, `1e-7`); `NaN`, `inf`, `-inf`.
+    pub fn num(v: f64) -> String {
+        let a = v.abs();
+        if v == 0.0 || !v.is_finite() || (1e-4..1e4).contains(&a) { format!("{v}") } else { format!("{v:e}") }
+    }
+
+    /// A count or a ratio that need not be exact: as [`num`] below 1e4 (to 3 decimals), and
+    /// to three significant digits above (`1.2346e12` is `1.23e12`, `1e298` stays `1e298`).
+    pub fn approx(v: f64) -> String {
+        if !v.is_finite() || v.abs() < 1e4 {
+            return num((v * 1e3).round() / 1e3);
+        }
+        let s = format!("{v:.2e}");
+        // `1.00e298` → `1e298`, `1.20e12` → `1.2e12`.
+        let (mantissa, exponent) = s.split_once('e').unwrap_or((&s, "0"));
+        let mantissa = mantissa.trim_end_matches('0').trim_end_matches('.');
+        format!("{mantissa}e{exponent}")
+    }
+
+    /// `text` with every number longer than 20 characters rewritten by [`num`]. Scene
+    /// messages write their own numbers with [`num`]; this is for the text they quote from
+    /// elsewhere, which cannot be told how to print: serde's (``invalid type: floating point
+    /// `1000…0.0`, expected a string``), a TOML value's, an effect's or a mesh loader's. It is
+    /// applied once, where a [`super::SceneError`] is made. A number written by [`num`] is left
+    /// as it is.
+    pub fn shorten_long_numbers(text: &str) -> String {
+        let b = text.as_bytes();
+        let mut out = String::with_capacity(text.len());
+        let mut i = 0;
+        while i < b.len() {
+            let starts_number =
+                b[i].is_ascii_digit() || (b[i] == b'-' && b.get(i + 1).is_some_and(u8::is_ascii_digit));
+            let inside_word =
+                i > 0 && (b[i - 1].is_ascii_alphanumeric() || b[i - 1] == b'_' || b[i - 1] == b'.');
+            if !starts_number || inside_word {
+                let next = text[i..].chars().next().map_or(1, char::len_utf8);
+                out.push_str(&text[i..i + next]);
+                i += next;
+                continue;
+            }
+            let mut end = i + 1;
+            while end < b.len()
+                && (b[end].is_ascii_digit()
+                    || b[end] == b'.'
+                    || ((b[end] == b'e' || b[end] == b'E') && end + 1 < b.len())
+                    || ((b[end] == b'-' || b[end] == b'+') && matches!(b[end - 1], b'e' | b'E')))
+            {
+                end += 1;
+            }
+            let token = &text[i..end];
+            match token.parse::<f64>() {
+                Ok(v) if token.len() > 20 => out.push_str(&num(v)),
+                _ => out.push_str(token),
+            }
+            i = end;
+        }
+        out
+    }
+
+    /// `[x, y, z]`, each written by [`num`].
+    pub fn vec3(v: [f64; 3]) -> String {
+        format!("[{}, {}, {}]", num(v[0]), num(v[1]), num(v[2]))
+    }
+}
+
 /// Checks of the scene's fields, each returning the value or an [`Invalid`] naming `key`.
 pub(crate) mod check {
     use super::Invalid;
+    use super::fmt::{num, vec3};
+    use crate::scene::ranges::{COORDINATE, Range};
+    use crate::scene::schema::Vec3Spec;
     use glam::DVec3;
 
     /// A key that the entry's `type` (`what`: "a plane", "a box injector region") needs.
@@ -89,17 +161,17 @@ pub(crate) mod check {
     }
 
     pub fn finite(key: &str, v: f64) -> Result<f64, Invalid> {
-        if v.is_finite() { Ok(v) } else { Err(Invalid::new(key, format!("must be finite, got {v}"))) }
+        if v.is_finite() { Ok(v) } else { Err(Invalid::new(key, format!("must be finite, got {}", num(v)))) }
     }
 
     pub fn positive(key: &str, v: f64) -> Result<f64, Invalid> {
         finite(key, v)?;
-        if v > 0.0 { Ok(v) } else { Err(Invalid::new(key, format!("must be > 0, got {v}"))) }
+        if v > 0.0 { Ok(v) } else { Err(Invalid::new(key, format!("must be > 0, got {}", num(v)))) }
     }
 
     pub fn non_negative(key: &str, v: f64) -> Result<f64, Invalid> {
         finite(key, v)?;
-        if v >= 0.0 { Ok(v) } else { Err(Invalid::new(key, format!("must be >= 0, got {v}"))) }
+        if v >= 0.0 { Ok(v) } else { Err(Invalid::new(key, format!("must be >= 0, got {}", num(v)))) }
     }
 
     pub fn in_range(key: &str, v: f64, lo: f64, hi: f64) -> Result<f64, Invalid> {
@@ -107,26 +179,153 @@ pub(crate) mod check {
         if (lo..=hi).contains(&v) {
             Ok(v)
         } else {
-            Err(Invalid::new(key, format!("must be between {lo} and {hi}, got {v}")))
+            Err(Invalid::new(key, format!("must be between {} and {}, got {}", num(lo), num(hi), num(v))))
         }
     }
 
-    pub fn vector(key: &str, v: [f64; 3]) -> Result<DVec3, Invalid> {
-        let d = DVec3::from(v);
+    /// A value > 0 (the sign checked first, with the message of [`positive`]) within `range`.
+    pub fn positive_in(key: &str, v: f64, range: &Range) -> Result<f64, Invalid> {
+        range.check(key, positive(key, v)?)
+    }
+
+    /// A value >= 0 within `range` (0 itself only if the range allows it).
+    pub fn non_negative_in(key: &str, v: f64, range: &Range) -> Result<f64, Invalid> {
+        range.check(key, non_negative(key, v)?)
+    }
+
+    /// A finite value of any sign whose magnitude is within `range` (a coordinate, a speed).
+    /// A signed value whose magnitude must lie in `range`; returns the value with its sign.
+    pub fn signed_in(key: &str, v: f64, range: &Range) -> Result<f64, Invalid> {
+        let v = finite(key, v)?;
+        range.check_magnitude(key, v.abs(), &num(v))?;
+        Ok(v)
+    }
+
+    pub fn vector(key: &str, v: Vec3Spec) -> Result<DVec3, Invalid> {
+        let d = DVec3::from(v.0);
         if d.is_finite() {
             Ok(d)
         } else {
-            Err(Invalid::new(key, format!("must have finite components, got {v:?}")))
+            Err(Invalid::new(key, format!("must have finite components, got {}", vec3(v.0))))
         }
     }
 
-    pub fn direction(key: &str, v: [f64; 3]) -> Result<DVec3, Invalid> {
+    /// A point (m): every coordinate within the range of coordinates.
+    pub fn point(key: &str, v: Vec3Spec) -> Result<DVec3, Invalid> {
+        let d = vector(key, v)?;
+        if COORDINATE.contains(d.abs().max_element()) {
+            Ok(d)
+        } else {
+            let message = format!(
+                "every coordinate must be within ±{} m (the range of coordinates), got {}",
+                num(COORDINATE.max),
+                vec3(v.0)
+            );
+            Err(Invalid::new(key, message))
+        }
+    }
+
+    /// A vector whose length is within `range` (a velocity, gravity). The length is computed
+    /// without overflow, so that `[1e200, 0, 0]` is reported as 1e200, not as infinite.
+    pub fn magnitude_in(key: &str, v: Vec3Spec, range: &Range) -> Result<DVec3, Invalid> {
+        let d = vector(key, v)?;
+        range.check_magnitude(key, length(d), &format!("{} (length {})", vec3(v.0), num(length(d))))?;
+        Ok(d)
+    }
+
+    /// The length of a finite vector, without overflow or underflow: scaled by its largest
+    /// component first.
+    pub fn length(d: DVec3) -> f64 {
+        let m = d.abs().max_element();
+        if m == 0.0 { 0.0 } else { m * (d / m).length() }
+    }
+
+    /// A direction: any finite non-zero vector, returned normalised.
+    ///
+    /// `length()` squares the components: from about 1e154 up the square overflows and the
+    /// vector normalised to zero (an outlet that removed nothing, a flow switched off), and
+    /// below about 1e-154 it underflows. Such a vector is scaled by its largest component
+    /// first. A vector whose length is an ordinary number is divided by it as before, so that
+    /// every direction that worked gives the same bits.
+    pub fn direction(key: &str, v: Vec3Spec) -> Result<DVec3, Invalid> {
         let d = vector(key, v)?;
         let len = d.length();
-        if len > 0.0 {
-            Ok(d / len)
+        if len.is_finite() && len > 1e-150 {
+            return Ok(d / len);
+        }
+        let m = d.abs().max_element();
+        if m > 0.0 {
+            let unit = d / m;
+            Ok(unit / unit.length())
         } else {
-            Err(Invalid::new(key, format!("must be a non-zero vector, got {v:?}")))
+            Err(Invalid::new(key, format!("must be a non-zero vector, got {}", vec3(v.0))))
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::check::direction;
+    use super::fmt::{approx, num, shorten_long_numbers, vec3};
+    use crate::scene::schema::Vec3Spec;
+    use glam::DVec3;
+    use proptest::prelude::*;
+
+    #[test]
+    fn numbers_are_printed_short_whatever_their_size() {
+        assert_eq!(num(1e300), "1e300");
+        assert_eq!(num(-1.5e308), "-1.5e308");
+        assert_eq!(num(1e-300), "1e-300");
+        assert_eq!(num(0.001), "0.001");
+        assert_eq!(num(-2500.0), "-2500");
+        assert_eq!(num(0.0), "0");
+        assert_eq!(num(63e9), "6.3e10");
+        assert_eq!(num(9999.0), "9999");
+        assert_eq!(num(1e4), "1e4");
+        assert_eq!(num(15250.0), "1.525e4");
+        assert_eq!(num(0.0001), "0.0001");
+        assert_eq!(num(f64::NAN), "NaN");
+        assert_eq!(num(f64::NEG_INFINITY), "-inf");
+        assert_eq!(vec3([0.0, 1e200, -0.5]), "[0, 1e200, -0.5]");
+        assert_eq!(approx(0.01 / 1e-300), "1e298");
+        assert_eq!(approx(1.2346e12), "1.23e12");
+        assert_eq!(approx(12345.0), "1.23e4");
+        assert_eq!(approx(6543.21), "6543.21");
+        let serde = format!("invalid type: floating point `{:.1}`, expected a string", 1e300);
+        assert_eq!(shorten_long_numbers(&serde), "invalid type: floating point `1e300`, expected a string");
+        let effect = format!("must be finite and >= 0, got {} (line 26)", -1.7053473259841148e-5);
+        assert_eq!(
+            shorten_long_numbers(&effect),
+            "must be finite and >= 0, got -1.7053473259841148e-5 (line 26)"
+        );
+        let kept =
+            "walls[2].normal: 0.30000000000000004 (line 12, column 3), rk4, 2.2250738585072014e-308, é";
+        assert_eq!(shorten_long_numbers(kept), kept);
+    }
+
+    proptest! {
+        /// Class of finding 6 (issue 13): a direction of any size, 1e-300 to 1e300, normalises
+        /// to the same unit vector (to round-off), never to zero or NaN.
+        #[test]
+        fn direction_of_any_size_normalises_to_the_same_unit_vector(
+            x in -1.0f64..1.0, y in -1.0f64..1.0, z in -1.0f64..1.0, exponent in -300i32..300,
+        ) {
+            let v = DVec3::new(x, y, z);
+            prop_assume!(v.abs().max_element() > 1e-3);
+            let scaled = v * 10f64.powi(exponent);
+            prop_assume!(scaled.is_finite() && scaled.abs().max_element() > 0.0);
+            let unit = direction("n", Vec3Spec(scaled.to_array())).unwrap();
+            prop_assert!((unit - v.normalize()).length() < 1e-14, "{unit} for {scaled}");
+        }
+
+        /// Every number prints in at most 24 characters (`-2.2250738585072014e-308`).
+        #[test]
+        fn every_number_prints_in_at_most_24_characters(bits in any::<u64>()) {
+            let v = f64::from_bits(bits);
+            prop_assert!(num(v).len() <= 24, "{} characters: {}", num(v).len(), num(v));
+            if v.is_finite() {
+                prop_assert_eq!(num(v).parse::<f64>().unwrap(), v);
+            }
         }
     }
 }

@@ -1,7 +1,9 @@
 //! Initial particles: an explicit list, lattices and seeded random fills.
 
+use super::error::fmt::{num, vec3};
 use super::error::{Invalid, check};
-use super::schema::SceneFile;
+use super::ranges::{DIAMETER, LENGTH, SPEED};
+use super::schema::{SceneFile, Vec3Spec};
 use crate::contact::detect::PlacedSpheres;
 use crate::particles::{ParticleKind, Particles};
 use crate::walls::{Surface, Wall};
@@ -36,25 +38,25 @@ pub(super) fn add_particles(
     for (i, s) in file.particles.iter().enumerate() {
         let k = |f: &str| format!("particles[{i}].{f}");
         let kind = kind_index(k("kind"), &s.kind)?;
-        let d = check::positive(&k("diameter"), s.diameter)?;
-        let x = check::vector(&k("position"), s.position)?;
-        let v = check::vector(&k("velocity"), s.velocity)?;
+        let d = check::positive_in(&k("diameter"), s.diameter, &DIAMETER)?;
+        let x = check::point(&k("position"), s.position)?;
+        let v = check::magnitude_in(&k("velocity"), s.velocity, &SPEED)?;
         origins.push((p.len(), k("position")));
         push(p, kind, d, x, v);
     }
     for (i, s) in file.lattice.iter().enumerate() {
         let k = |f: &str| format!("lattice[{i}].{f}");
         let kind = kind_index(k("kind"), &s.kind)?;
-        let d = check::positive(&k("diameter"), s.diameter)?;
+        let d = check::positive_in(&k("diameter"), s.diameter, &DIAMETER)?;
         let (lo, hi) = region(&k("min"), &k("max"), s.min, s.max)?;
-        let a = check::positive(&k("spacing"), s.spacing)?;
+        let a = check::positive_in(&k("spacing"), s.spacing, &LENGTH)?;
         if a < d {
             return Err(Invalid::new(
                 k("spacing"),
-                format!("must be >= diameter {d} so particles do not overlap, got {a}"),
+                format!("must be >= diameter {} so particles do not overlap, got {}", num(d), num(a)),
             ));
         }
-        let v = check::vector(&k("velocity"), s.velocity)?;
+        let v = check::magnitude_in(&k("velocity"), s.velocity, &SPEED)?;
         let n = ((hi - lo) / a - 0.5).floor() + 1.0;
         let n = n.max(DVec3::ZERO);
         if n.x * n.y * n.z + p.len() as f64 > MAX_PARTICLES as f64 {
@@ -76,9 +78,9 @@ pub(super) fn add_particles(
     for (i, s) in file.random_fill.iter().enumerate() {
         let k = |f: &str| format!("random_fill[{i}].{f}");
         let kind = kind_index(k("kind"), &s.kind)?;
-        let d = check::positive(&k("diameter"), s.diameter)?;
+        let d = check::positive_in(&k("diameter"), s.diameter, &DIAMETER)?;
         let (lo, hi) = region(&k("min"), &k("max"), s.min, s.max)?;
-        let v = check::vector(&k("velocity"), s.velocity)?;
+        let v = check::magnitude_in(&k("velocity"), s.velocity, &SPEED)?;
         if s.count as usize + p.len() > MAX_PARTICLES {
             return Err(Invalid::new(
                 k("count"),
@@ -90,7 +92,7 @@ pub(super) fn add_particles(
         if !lo.cmplt(hi).all() {
             return Err(Invalid::new(
                 k("max"),
-                format!("region is thinner than the diameter {d} on some axis"),
+                format!("region is thinner than the diameter {} on some axis", num(d)),
             ));
         }
         origins.push((p.len(), format!("random_fill[{i}]")));
@@ -104,12 +106,12 @@ pub(super) fn add_particles(
     Ok(origins)
 }
 
-fn region(kmin: &str, kmax: &str, min: [f64; 3], max: [f64; 3]) -> Result<(DVec3, DVec3), Invalid> {
-    let (lo, hi) = (check::vector(kmin, min)?, check::vector(kmax, max)?);
+fn region(kmin: &str, kmax: &str, min: Vec3Spec, max: Vec3Spec) -> Result<(DVec3, DVec3), Invalid> {
+    let (lo, hi) = (check::point(kmin, min)?, check::point(kmax, max)?);
     if !lo.cmplt(hi).all() {
         return Err(Invalid::new(
             kmax,
-            format!("must exceed min on every axis, got min {min:?}, max {max:?}"),
+            format!("must exceed min on every axis, got min {}, max {}", vec3(min.0), vec3(max.0)),
         ));
     }
     Ok((lo, hi))

@@ -2,6 +2,8 @@
 
 use super::error::Invalid;
 use super::error::check::{self, only, required};
+use super::error::fmt::{num, vec3};
+use super::ranges::{DIAMETER, LENGTH, LENGTH_OR_ZERO, SPEED, TIME, TIME_OR_ZERO};
 use super::schema::*;
 use crate::particles::ParticleKind;
 use crate::pipeline::inject::{Injector, Region, SizeDistribution};
@@ -47,16 +49,19 @@ pub(super) fn build_injectors(
         let rate = check::positive(&k("rate"), s.rate)?;
         let region = build_region(&k("region"), &s.region)?;
         let diameter = build_size(&k("diameter"), &s.diameter)?;
-        let velocity = check::vector(&k("velocity"), s.velocity)?;
-        let start = check::non_negative(&k("start"), s.start)?;
+        let velocity = check::magnitude_in(&k("velocity"), s.velocity, &SPEED)?;
+        let start = check::non_negative_in(&k("start"), s.start, &TIME_OR_ZERO)?;
         let stop = match s.stop {
             None => f64::INFINITY,
             Some(t) => {
                 check::finite(&k("stop"), t)?;
                 if t <= start {
-                    return Err(Invalid::new(k("stop"), format!("must be > start {start}, got {t}")));
+                    return Err(Invalid::new(
+                        k("stop"),
+                        format!("must be > start {}, got {}", num(start), num(t)),
+                    ));
                 }
-                t
+                TIME.check(&k("stop"), t)?
             }
         };
         total += rate * (stop.min(duration) - start).max(0.0);
@@ -84,20 +89,24 @@ fn build_region(key: &str, s: &RegionSpec) -> Result<Region, Invalid> {
         RegionType::Disk => {
             let what = "a disk region";
             only(key, &present, &["center", "normal", "radius"], what)?;
-            let center = check::vector(&k("center"), required(&k("center"), s.center, what)?)?;
+            let center = check::point(&k("center"), required(&k("center"), s.center, what)?)?;
             let normal = check::direction(&k("normal"), required(&k("normal"), s.normal, what)?)?;
-            let radius = check::non_negative(&k("radius"), required(&k("radius"), s.radius, what)?)?;
+            let radius = check::non_negative_in(
+                &k("radius"),
+                required(&k("radius"), s.radius, what)?,
+                &LENGTH_OR_ZERO,
+            )?;
             Ok(Region::disk(center, normal, radius))
         }
         RegionType::Box => {
             let what = "a box region";
             only(key, &present, &["min", "max"], what)?;
             let (min, max) = (required(&k("min"), s.min, what)?, required(&k("max"), s.max, what)?);
-            let (lo, hi) = (check::vector(&k("min"), min)?, check::vector(&k("max"), max)?);
+            let (lo, hi) = (check::point(&k("min"), min)?, check::point(&k("max"), max)?);
             if !lo.cmplt(hi).all() {
                 return Err(Invalid::new(
                     k("max"),
-                    format!("must exceed min on every axis, got min {min:?}, max {max:?}"),
+                    format!("must exceed min on every axis, got min {}, max {}", vec3(min.0), vec3(max.0)),
                 ));
             }
             Ok(Region::Box { min: lo, max: hi })
@@ -117,10 +126,10 @@ fn build_size(key: &str, s: &SizeSpec) -> Result<SizeDistribution, Invalid> {
         ("max", s.max.is_some()),
     ];
     let range = |what: &str| -> Result<(f64, f64), Invalid> {
-        let min = check::positive(&k("min"), required(&k("min"), s.min, what)?)?;
-        let max = check::positive(&k("max"), required(&k("max"), s.max, what)?)?;
+        let min = check::positive_in(&k("min"), required(&k("min"), s.min, what)?, &DIAMETER)?;
+        let max = check::positive_in(&k("max"), required(&k("max"), s.max, what)?, &DIAMETER)?;
         if max <= min {
-            return Err(Invalid::new(k("max"), format!("must be > min {min}, got {max}")));
+            return Err(Invalid::new(k("max"), format!("must be > min {}, got {}", num(min), num(max))));
         }
         Ok((min, max))
     };
@@ -142,7 +151,11 @@ fn build_size(key: &str, s: &SizeSpec) -> Result<SizeDistribution, Invalid> {
         SizeType::Fixed => {
             let what = "a fixed diameter";
             only(key, &present, &["value"], what)?;
-            SizeDistribution::Fixed(check::positive(&k("value"), required(&k("value"), s.value, what)?)?)
+            SizeDistribution::Fixed(check::positive_in(
+                &k("value"),
+                required(&k("value"), s.value, what)?,
+                &DIAMETER,
+            )?)
         }
         SizeType::Uniform => {
             let what = "a uniform distribution";
@@ -153,8 +166,9 @@ fn build_size(key: &str, s: &SizeSpec) -> Result<SizeDistribution, Invalid> {
         SizeType::Normal => {
             let what = "a normal distribution";
             only(key, &present, &["mean", "std_dev", "min", "max"], what)?;
-            let mean = check::positive(&k("mean"), required(&k("mean"), s.mean, what)?)?;
-            let std_dev = check::positive(&k("std_dev"), required(&k("std_dev"), s.std_dev, what)?)?;
+            let mean = check::positive_in(&k("mean"), required(&k("mean"), s.mean, what)?, &DIAMETER)?;
+            let std_dev =
+                check::positive_in(&k("std_dev"), required(&k("std_dev"), s.std_dev, what)?, &LENGTH)?;
             let (min, max) = range(what)?;
             reachable(mean, std_dev, min, max)?;
             SizeDistribution::Normal { mean, std_dev, min, max }
@@ -162,7 +176,8 @@ fn build_size(key: &str, s: &SizeSpec) -> Result<SizeDistribution, Invalid> {
         SizeType::LogNormal => {
             let what = "a log-normal distribution";
             only(key, &present, &["median", "sigma", "min", "max"], what)?;
-            let median = check::positive(&k("median"), required(&k("median"), s.median, what)?)?;
+            let median =
+                check::positive_in(&k("median"), required(&k("median"), s.median, what)?, &DIAMETER)?;
             let sigma = check::positive(&k("sigma"), required(&k("sigma"), s.sigma, what)?)?;
             let (min, max) = range(what)?;
             reachable(median.ln(), sigma, min.ln(), max.ln())?;
@@ -185,7 +200,7 @@ pub(super) fn build_outlets(specs: &[OutletSpec], walls: &[Wall]) -> Result<Vec<
                 let what = "a plane outlet";
                 only(&key, &present, &["point", "normal"], what)?;
                 OutletShape::Plane {
-                    point: check::vector(&k("point"), required(&k("point"), s.point, what)?)?,
+                    point: check::point(&k("point"), required(&k("point"), s.point, what)?)?,
                     normal: check::direction(&k("normal"), required(&k("normal"), s.normal, what)?)?,
                 }
             }

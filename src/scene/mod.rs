@@ -8,7 +8,9 @@ mod build;
 mod error;
 mod fill;
 mod flux;
+mod ranges;
 mod report;
+pub mod run_length;
 mod schema;
 pub mod stiffness;
 mod walls;
@@ -16,6 +18,7 @@ mod walls;
 pub use accuracy::{Accuracy, AutoStep};
 pub use error::SceneError;
 pub use report::{KindReport, kind_report, kind_reports, scene_sizes};
+pub use run_length::{MAX_FRAMES, MAX_STEPS, TooLong, run_length};
 
 use crate::particles::Particles;
 use crate::pipeline::{Setup, Simulation};
@@ -41,27 +44,50 @@ pub struct Scene {
     pub particles: Particles,
 }
 
+/// What loading may accept that it refuses by default.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct LoadOptions {
+    /// Accept a run of more than [`MAX_FRAMES`] output frames or [`MAX_STEPS`] time steps
+    /// (`wetbounce run --allow-long-run`).
+    pub allow_long_run: bool,
+}
+
 impl Scene {
     /// Reads, parses and validates the scene file at `path`. Mesh files are resolved relative
     /// to the scene file's folder.
     pub fn load(path: impl AsRef<Path>) -> Result<Scene, SceneError> {
+        Scene::load_with(path, LoadOptions::default())
+    }
+
+    /// [`Scene::load`] with `options`.
+    pub fn load_with(path: impl AsRef<Path>, options: LoadOptions) -> Result<Scene, SceneError> {
         let path = path.as_ref();
         let source = std::fs::read_to_string(path)
             .map_err(|source| SceneError::Read { file: path.to_path_buf(), source })?;
-        Scene::from_str(&source, path)
+        Scene::from_str_with(&source, path, options)
     }
 
     /// Parses and validates scene text as if read from `path` (used in messages and to find
     /// mesh files).
     pub fn from_str(source: &str, path: &Path) -> Result<Scene, SceneError> {
+        Scene::from_str_with(source, path, LoadOptions::default())
+    }
+
+    /// [`Scene::from_str`] with `options`.
+    pub fn from_str_with(source: &str, path: &Path, options: LoadOptions) -> Result<Scene, SceneError> {
         let file = build::parse(source, path)?;
         let base = path.parent().unwrap_or(Path::new("."));
-        build::build(file, base, source)
+        build::build(file, base, source, options)
             .map(|mut scene| {
                 scene.path = path.to_path_buf();
                 scene
             })
-            .map_err(|e| SceneError::Invalid { file: path.to_path_buf(), key: e.key, message: e.message })
+            .map_err(|e| SceneError::Invalid {
+                file: path.to_path_buf(),
+                key: e.key,
+                // Numbers quoted from other rooms' messages (effects, meshes) written short too.
+                message: error::fmt::shorten_long_numbers(&e.message),
+            })
     }
 
     /// The simulation at time 0.

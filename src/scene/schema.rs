@@ -45,6 +45,100 @@ pub struct SimulationSpec {
     pub impact_location: ImpactLocation,
 }
 
+/// Every 3-vector key of the scene (positions, velocities, normals, axes, points, corners,
+/// gravity, translations, flows): exactly three numbers `[x, y, z]`.
+///
+/// Not `[f64; 3]`: serde reads a fixed-size array as a tuple, takes its first three elements
+/// and returns, and the toml deserializer does not check that the array has ended, so
+/// `[0.0, 0.0, 1.0, 99.0, "x", true]` was read as `[0, 0, 1]` and the rest dropped unseen.
+/// This type reads the whole array, then checks its length and every element's type, so the
+/// error names the key (through `serde_path_to_error`) and says what was given.
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct Vec3Spec(pub [f64; 3]);
+
+impl<'de> Deserialize<'de> for Vec3Spec {
+    fn deserialize<D: serde::Deserializer<'de>>(de: D) -> Result<Self, D::Error> {
+        struct V;
+        impl<'de> serde::de::Visitor<'de> for V {
+            type Value = Vec3Spec;
+            fn expecting(&self, f: &mut std::fmt::Formatter) -> std::fmt::Result {
+                f.write_str("3 numbers [x, y, z]")
+            }
+            fn visit_seq<A: serde::de::SeqAccess<'de>>(self, mut seq: A) -> Result<Vec3Spec, A::Error> {
+                let mut v = [0.0; 3];
+                let mut count = 0usize;
+                let mut not_a_number: Option<(usize, String)> = None;
+                while let Some(c) = seq.next_element::<Component>()? {
+                    match c {
+                        Component::Number(x) if count < 3 => v[count] = x,
+                        Component::Number(_) => {}
+                        Component::Other(what) => {
+                            not_a_number.get_or_insert((count, what));
+                        }
+                    }
+                    count += 1;
+                }
+                let wrong = |detail: String| {
+                    serde::de::Error::custom(format!("must be 3 numbers [x, y, z], {detail}"))
+                };
+                if count != 3 {
+                    let s = if count == 1 { "" } else { "s" };
+                    return Err(wrong(format!("got {count} value{s}")));
+                }
+                if let Some((i, what)) = not_a_number {
+                    return Err(wrong(format!("but component {i} is {what}")));
+                }
+                Ok(Vec3Spec(v))
+            }
+        }
+        de.deserialize_seq(V)
+    }
+}
+
+/// One element of a vector as given: a number (a TOML float or integer), or what it is instead.
+enum Component {
+    Number(f64),
+    Other(String),
+}
+
+impl<'de> Deserialize<'de> for Component {
+    fn deserialize<D: serde::Deserializer<'de>>(de: D) -> Result<Self, D::Error> {
+        struct V;
+        impl<'de> serde::de::Visitor<'de> for V {
+            type Value = Component;
+            fn expecting(&self, f: &mut std::fmt::Formatter) -> std::fmt::Result {
+                f.write_str("a number")
+            }
+            fn visit_f64<E>(self, v: f64) -> Result<Component, E> {
+                Ok(Component::Number(v))
+            }
+            fn visit_i64<E>(self, v: i64) -> Result<Component, E> {
+                Ok(Component::Number(v as f64))
+            }
+            fn visit_u64<E>(self, v: u64) -> Result<Component, E> {
+                Ok(Component::Number(v as f64))
+            }
+            fn visit_bool<E>(self, v: bool) -> Result<Component, E> {
+                Ok(Component::Other(format!("a boolean ({v})")))
+            }
+            fn visit_str<E>(self, v: &str) -> Result<Component, E> {
+                let shown: String = v.chars().take(20).collect();
+                let more = if shown.len() < v.len() { "…" } else { "" };
+                Ok(Component::Other(format!("a string (\"{}{more}\")", shown.escape_debug())))
+            }
+            fn visit_seq<A: serde::de::SeqAccess<'de>>(self, mut seq: A) -> Result<Component, A::Error> {
+                while seq.next_element::<serde::de::IgnoredAny>()?.is_some() {}
+                Ok(Component::Other("an array".into()))
+            }
+            fn visit_map<A: serde::de::MapAccess<'de>>(self, mut map: A) -> Result<Component, A::Error> {
+                while map.next_entry::<serde::de::IgnoredAny, serde::de::IgnoredAny>()?.is_some() {}
+                Ok(Component::Other("a table or a date".into()))
+            }
+        }
+        de.deserialize_any(V)
+    }
+}
+
 /// `simulation.dt`: a time step in s, or `"auto"` (chosen from the accuracy setting and the
 /// scene's time scales).
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -88,13 +182,13 @@ pub struct FluidSpec {
     pub density: f64,
     pub viscosity: f64,
     #[serde(default = "default_gravity")]
-    pub gravity: [f64; 3],
+    pub gravity: Vec3Spec,
     #[serde(default)]
     pub flow: FlowSpec,
 }
 
-fn default_gravity() -> [f64; 3] {
-    [0.0, 0.0, -9.81]
+fn default_gravity() -> Vec3Spec {
+    Vec3Spec([0.0, 0.0, -9.81])
 }
 
 /// `fluid.flow`: one flat table whose `type` says which other keys it needs, so that every
@@ -104,9 +198,9 @@ fn default_gravity() -> [f64; 3] {
 pub struct FlowSpec {
     #[serde(rename = "type", default)]
     pub flow: FlowType,
-    pub velocity: Option<[f64; 3]>,
-    pub point: Option<[f64; 3]>,
-    pub axis: Option<[f64; 3]>,
+    pub velocity: Option<Vec3Spec>,
+    pub point: Option<Vec3Spec>,
+    pub axis: Option<Vec3Spec>,
     pub radius: Option<f64>,
     pub mean_velocity: Option<f64>,
     pub max_velocity: Option<f64>,
@@ -184,19 +278,19 @@ pub struct WallSpec {
     pub name: String,
     #[serde(rename = "type")]
     pub shape: WallType,
-    pub point: Option<[f64; 3]>,
-    pub normal: Option<[f64; 3]>,
-    pub min: Option<[f64; 3]>,
-    pub max: Option<[f64; 3]>,
+    pub point: Option<Vec3Spec>,
+    pub normal: Option<Vec3Spec>,
+    pub min: Option<Vec3Spec>,
+    pub max: Option<Vec3Spec>,
     pub inside: Option<bool>,
-    pub base: Option<[f64; 3]>,
-    pub axis: Option<[f64; 3]>,
+    pub base: Option<Vec3Spec>,
+    pub axis: Option<Vec3Spec>,
     pub radius: Option<f64>,
     pub length: Option<f64>,
     pub file: Option<String>,
     pub scale: Option<f64>,
-    pub translate: Option<[f64; 3]>,
-    pub center: Option<[f64; 3]>,
+    pub translate: Option<Vec3Spec>,
+    pub center: Option<Vec3Spec>,
     pub inner_radius: Option<f64>,
     pub outer_radius: Option<f64>,
     pub segments: Option<u32>,
@@ -245,9 +339,9 @@ impl WallSpec {
 pub struct ParticleSpec {
     pub kind: String,
     pub diameter: f64,
-    pub position: [f64; 3],
+    pub position: Vec3Spec,
     #[serde(default)]
-    pub velocity: [f64; 3],
+    pub velocity: Vec3Spec,
 }
 
 #[derive(Debug, Clone, Deserialize)]
@@ -255,11 +349,11 @@ pub struct ParticleSpec {
 pub struct LatticeSpec {
     pub kind: String,
     pub diameter: f64,
-    pub min: [f64; 3],
-    pub max: [f64; 3],
+    pub min: Vec3Spec,
+    pub max: Vec3Spec,
     pub spacing: f64,
     #[serde(default)]
-    pub velocity: [f64; 3],
+    pub velocity: Vec3Spec,
 }
 
 #[derive(Debug, Clone, Deserialize)]
@@ -267,12 +361,12 @@ pub struct LatticeSpec {
 pub struct RandomFillSpec {
     pub kind: String,
     pub diameter: f64,
-    pub min: [f64; 3],
-    pub max: [f64; 3],
+    pub min: Vec3Spec,
+    pub max: Vec3Spec,
     pub count: u32,
     pub seed: u64,
     #[serde(default)]
-    pub velocity: [f64; 3],
+    pub velocity: Vec3Spec,
 }
 
 /// One `[[injectors]]` entry.
@@ -285,7 +379,7 @@ pub struct InjectorSpec {
     pub region: RegionSpec,
     pub diameter: SizeSpec,
     #[serde(default)]
-    pub velocity: [f64; 3],
+    pub velocity: Vec3Spec,
     pub seed: u64,
     #[serde(default)]
     pub start: f64,
@@ -298,11 +392,11 @@ pub struct InjectorSpec {
 pub struct RegionSpec {
     #[serde(rename = "type")]
     pub region: RegionType,
-    pub center: Option<[f64; 3]>,
-    pub normal: Option<[f64; 3]>,
+    pub center: Option<Vec3Spec>,
+    pub normal: Option<Vec3Spec>,
     pub radius: Option<f64>,
-    pub min: Option<[f64; 3]>,
-    pub max: Option<[f64; 3]>,
+    pub min: Option<Vec3Spec>,
+    pub max: Option<Vec3Spec>,
 }
 
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize)]
@@ -342,8 +436,8 @@ pub struct OutletSpec {
     pub name: Option<String>,
     #[serde(rename = "type")]
     pub outlet: OutletType,
-    pub point: Option<[f64; 3]>,
-    pub normal: Option<[f64; 3]>,
+    pub point: Option<Vec3Spec>,
+    pub normal: Option<Vec3Spec>,
     pub wall: Option<String>,
 }
 

@@ -5,7 +5,9 @@
 use super::build::poisson;
 use super::error::Invalid;
 use super::error::check::{self, only, required};
-use super::schema::{MaterialSpec, WallSpec, WallType};
+use super::error::fmt::{num, vec3};
+use super::ranges::{LENGTH, LENGTH_OR_ZERO, MESH_SCALE, YOUNGS_MODULUS};
+use super::schema::{MaterialSpec, Vec3Spec, WallSpec, WallType};
 use crate::walls::{Cuboid, Cylinder, Plane, Shape, Wall, WallMaterial, annulus_mesh, load_mesh};
 use std::path::Path;
 
@@ -74,7 +76,7 @@ pub(super) fn build_walls(specs: &[WallSpec], base: &Path) -> Result<Vec<Wall>, 
 fn plane(e: &Entry) -> Result<Shape, Invalid> {
     let s = e.spec;
     Ok(Shape::Plane(Plane {
-        point: check::vector(&e.k("point"), e.need("point", s.point)?)?,
+        point: check::point(&e.k("point"), e.need("point", s.point)?)?,
         normal: check::direction(&e.k("normal"), e.need("normal", s.normal)?)?,
     }))
 }
@@ -82,11 +84,11 @@ fn plane(e: &Entry) -> Result<Shape, Invalid> {
 fn cuboid(e: &Entry) -> Result<Shape, Invalid> {
     let s = e.spec;
     let (min, max) = (e.need("min", s.min)?, e.need("max", s.max)?);
-    let (lo, hi) = (check::vector(&e.k("min"), min)?, check::vector(&e.k("max"), max)?);
+    let (lo, hi) = (check::point(&e.k("min"), min)?, check::point(&e.k("max"), max)?);
     if !lo.cmplt(hi).all() {
         return Err(Invalid::new(
             e.k("max"),
-            format!("must exceed min on every axis, got min {min:?}, max {max:?}"),
+            format!("must exceed min on every axis, got min {}, max {}", vec3(min.0), vec3(max.0)),
         ));
     }
     let inside =
@@ -97,13 +99,13 @@ fn cuboid(e: &Entry) -> Result<Shape, Invalid> {
 fn cylinder(e: &Entry) -> Result<Shape, Invalid> {
     let s = e.spec;
     let (lo, hi) = match s.length {
-        Some(l) => (0.0, check::positive(&e.k("length"), l)?),
+        Some(l) => (0.0, check::positive_in(&e.k("length"), l, &LENGTH)?),
         None => (f64::NEG_INFINITY, f64::INFINITY),
     };
     Ok(Shape::Cylinder(Cylinder {
-        base: check::vector(&e.k("base"), e.need("base", s.base)?)?,
-        axis: check::direction(&e.k("axis"), s.axis.unwrap_or([0.0, 0.0, 1.0]))?,
-        radius: check::positive(&e.k("radius"), e.need("radius", s.radius)?)?,
+        base: check::point(&e.k("base"), e.need("base", s.base)?)?,
+        axis: check::direction(&e.k("axis"), s.axis.unwrap_or(Vec3Spec([0.0, 0.0, 1.0])))?,
+        radius: check::positive_in(&e.k("radius"), e.need("radius", s.radius)?, &LENGTH)?,
         lo,
         hi,
     }))
@@ -112,8 +114,8 @@ fn cylinder(e: &Entry) -> Result<Shape, Invalid> {
 fn mesh(e: &Entry, base: &Path) -> Result<Shape, Invalid> {
     let s = e.spec;
     let file = e.need("file", s.file.clone())?;
-    let scale = check::positive(&e.k("scale"), s.scale.unwrap_or(1.0))?;
-    let translate = check::vector(&e.k("translate"), s.translate.unwrap_or([0.0; 3]))?;
+    let scale = check::positive_in(&e.k("scale"), s.scale.unwrap_or(1.0), &MESH_SCALE)?;
+    let translate = check::point(&e.k("translate"), s.translate.unwrap_or_default())?;
     let mesh = load_mesh(&base.join(&file), scale, translate)
         .map_err(|err| Invalid::new(e.k("file"), err.to_string()))?;
     Ok(Shape::Mesh(Box::new(mesh)))
@@ -121,28 +123,31 @@ fn mesh(e: &Entry, base: &Path) -> Result<Shape, Invalid> {
 
 fn annulus(e: &Entry) -> Result<Shape, Invalid> {
     let s = e.spec;
-    let center = check::vector(&e.k("center"), e.need("center", s.center)?)?;
+    let center = check::point(&e.k("center"), e.need("center", s.center)?)?;
     let normal = check::direction(&e.k("normal"), e.need("normal", s.normal)?)?;
-    let outer = check::positive(&e.k("outer_radius"), e.need("outer_radius", s.outer_radius)?)?;
-    let inner = check::non_negative(&e.k("inner_radius"), s.inner_radius.unwrap_or(0.0))?;
+    let outer = check::positive_in(&e.k("outer_radius"), e.need("outer_radius", s.outer_radius)?, &LENGTH)?;
+    let inner = check::non_negative_in(&e.k("inner_radius"), s.inner_radius.unwrap_or(0.0), &LENGTH_OR_ZERO)?;
     if inner >= outer {
         return Err(Invalid::new(
             e.k("inner_radius"),
-            format!("must be < outer_radius {outer}, got {inner}"),
+            format!("must be < outer_radius {}, got {}", num(outer), num(inner)),
         ));
     }
     let segments = s.segments.unwrap_or(128);
     if !(3..=100_000).contains(&segments) {
         return Err(Invalid::new(e.k("segments"), format!("must be between 3 and 100000, got {segments}")));
     }
-    let cone_height = check::finite(&e.k("cone_height"), s.cone_height.unwrap_or(0.0))?;
+    let cone_height = check::signed_in(&e.k("cone_height"), s.cone_height.unwrap_or(0.0), &LENGTH_OR_ZERO)?;
     Ok(Shape::Mesh(Box::new(annulus_mesh(center, normal, inner, outer, cone_height, segments))))
 }
 
 fn build_material(m: &MaterialSpec, key: &str) -> Result<WallMaterial, Invalid> {
     let k = |f: &str| format!("{key}.material.{f}");
     Ok(WallMaterial {
-        youngs_modulus: m.youngs_modulus.map(|v| check::positive(&k("youngs_modulus"), v)).transpose()?,
+        youngs_modulus: m
+            .youngs_modulus
+            .map(|v| check::positive_in(&k("youngs_modulus"), v, &YOUNGS_MODULUS))
+            .transpose()?,
         poisson_ratio: m.poisson_ratio.map(|v| poisson(&k("poisson_ratio"), v)).transpose()?,
         restitution_max: m
             .restitution_max

@@ -1,6 +1,6 @@
 //! Axis-aligned box, with the particles inside (a container) or outside (an obstacle).
 
-use super::{Crossing, Drawable, Gap, Solid, Surface, boxes_overlap, convex_crossing, linear_crossing};
+use super::{Crossing, Drawable, Gap, Part, Solid, Surface, boxes_overlap, convex_crossing, linear_crossing};
 use glam::{DQuat, DVec3};
 
 /// An axis-aligned box from `min` to `max` (m).
@@ -87,19 +87,41 @@ impl Surface for Cuboid {
         }
     }
 
-    fn touching(&self, c: DVec3, r: f64, within: f64, mut each: impl FnMut(Gap)) {
+    /// Inside: each face is a part (0–5: −x, +x, −y, +y, −z, +z). An obstacle is one convex
+    /// part.
+    fn touching(&self, c: DVec3, r: f64, within: f64, mut each: impl FnMut(Part, Gap)) {
         if !self.inside {
             let g = self.outer_gap(c, r);
             if g.gap < within {
-                each(g);
+                each(0, g);
             }
             return;
         }
-        for (dist, normal) in self.inner_faces(c) {
+        for (face, (dist, normal)) in self.inner_faces(c).into_iter().enumerate() {
             if dist - r < within {
-                each(Gap { gap: dist - r, normal });
+                each(face as Part, Gap { gap: dist - r, normal });
             }
         }
+    }
+
+    fn part_gap(&self, part: Part, c: DVec3, r: f64) -> Gap {
+        if !self.inside {
+            return self.gap(c, r);
+        }
+        let (dist, normal) = self.inner_faces(c)[part as usize % 6];
+        Gap { gap: dist - r, normal }
+    }
+
+    fn gap_without(&self, c: DVec3, r: f64, skip: &[Part]) -> Gap {
+        if !self.inside || skip.is_empty() {
+            return self.gap(c, r);
+        }
+        let faces =
+            self.inner_faces(c).into_iter().enumerate().filter(|(face, _)| !skip.contains(&(*face as Part)));
+        faces
+            .map(|(_, (dist, normal))| Gap { gap: dist - r, normal })
+            .min_by(|a, b| a.gap.total_cmp(&b.gap))
+            .unwrap_or(Gap { gap: f64::INFINITY, normal: DVec3::Z })
     }
 }
 

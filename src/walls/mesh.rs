@@ -1,7 +1,11 @@
 //! Triangle-mesh walls from STL (ASCII or binary) and OBJ files, through parry's `TriMesh`.
 
-use super::{Crossing, Drawable, Gap, Solid, Surface, boxes_overlap};
+use super::{Crossing, Drawable, Gap, Part, Solid, Surface, boxes_overlap};
+
+/// The part number of the gap out of a closed mesh for a centre inside it.
+const INSIDE: Part = Part::MAX;
 use glam::DVec3;
+use parry3d_f64::bounding_volume::Aabb;
 use parry3d_f64::math::Pose;
 use parry3d_f64::query::{PointQuery, ShapeCastOptions, cast_shapes};
 use parry3d_f64::shape::{Ball, FeatureId, TriMesh, TriMeshFlags};
@@ -44,6 +48,14 @@ pub enum MeshError {
         /// The path as given.
         path: String,
     },
+    /// The path is not a file to read as a mesh: a device, a fifo, a folder, or too large.
+    #[error("mesh file '{path}' {message}")]
+    NotAMesh {
+        /// The path as given.
+        path: String,
+        /// Why.
+        message: String,
+    },
     /// The geometry is unusable.
     #[error("mesh file '{path}': {message}")]
     Geometry {
@@ -54,12 +66,18 @@ pub enum MeshError {
     },
 }
 
+/// The largest mesh file read (bytes). A binary STL of 10 million triangles is 500 MB; a larger
+/// file is far more likely a wrong path (a disk image, a log) than a wall, and reading it whole
+/// would take the memory of a run.
+pub const MESH_FILE_CAP: u64 = 512 << 20;
+
 /// Loads an STL (ASCII or binary) or OBJ file, scales it by `scale` and moves it by `translate`
 /// (m). Rejects files with no triangles, non-finite coordinates, out-of-range indices or
 /// degenerate (zero-area) triangles, naming the first bad one.
 pub fn load_mesh(path: &Path, scale: f64, translate: DVec3) -> Result<MeshWall, MeshError> {
     let shown = path.display().to_string();
     let ext = path.extension().and_then(|e| e.to_str()).map(str::to_ascii_lowercase);
+    check_file(path, &shown)?;
     let (vertices, triangles) = match ext.as_deref() {
         Some("stl") => read_stl(path, &shown)?,
         Some("obj") => read_obj(path, &shown)?,
@@ -119,6 +137,24 @@ pub fn load_mesh(path: &Path, scale: f64, translate: DVec3) -> Result<MeshWall, 
     let mesh = TriMesh::with_flags(vertices, triangles, flags)
         .map_err(|e| geometry(format!("cannot build the mesh: {e}")))?;
     Ok(MeshWall { mesh, closed })
+}
+
+/// Refuses what is not a regular file (a device such as `/dev/zero` would be read forever, a
+/// fifo would block) and a file beyond [`MESH_FILE_CAP`], from its metadata, before reading it.
+fn check_file(path: &Path, shown: &str) -> Result<(), MeshError> {
+    let meta = std::fs::metadata(path).map_err(|source| MeshError::Read { path: shown.into(), source })?;
+    let refuse = |message: String| MeshError::NotAMesh { path: shown.into(), message };
+    if !meta.is_file() {
+        return Err(refuse("is not a regular file (a device, a fifo or a folder)".into()));
+    }
+    if meta.len() > MESH_FILE_CAP {
+        return Err(refuse(format!(
+            "is {} MiB, beyond the {} MiB a mesh file may have",
+            meta.len() >> 20,
+            MESH_FILE_CAP >> 20
+        )));
+    }
+    Ok(())
 }
 
 /// Vertices with identical coordinates become one (STL and OBJ repeat them per face).
@@ -233,6 +269,64 @@ impl Surface for MeshWall {
     fn may_touch(&self, c0: DVec3, c1: DVec3, r: f64) -> bool {
         let aabb = self.mesh.local_aabb();
         boxes_overlap(c0, c1, r, aabb.mins, aabb.maxs)
+    }
+
+    /// Every triangle within `within` of the sphere, each with its own gap and normal (found
+    /// through the mesh's bounding-volume hierarchy): at a crease a sphere touches two facets
+    /// at once, and the one it approaches is not always the nearest. A sphere whose centre is
+    /// inside a closed mesh gets the one gap out of the body.
+    fn touching(&self, c: DVec3, r: f64, within: f64, mut each: impl FnMut(Part, Gap)) {
+        let nearest = self.gap(c, r);
+        if self.closed && nearest.gap < -r {
+            if nearest.gap < within {
+                each(INSIDE, nearest);
+            }
+            return;
+        }
+        let reach = r + within.max(0.0);
+        let region = Aabb::from_half_extents(c, DVec3::splat(reach));
+        for i in self.mesh.bvh().intersect_aabb(&region) {
+            let triangle = self.mesh.triangle(i);
+            let d = c - triangle.project_local_point(c, true).point;
+            let dist = d.length();
+            if dist - r < within {
+                let normal =
+                    if dist > 1e-15 { d / dist } else { triangle.normal().unwrap_or(nearest.normal) };
+                each(i, Gap { gap: dist - r, normal });
+            }
+        }
+    }
+
+    fn part_gap(&self, part: Part, c: DVec3, r: f64) -> Gap {
+        let nearest = self.gap(c, r);
+        if part == INSIDE || part >= self.mesh.num_triangles() as Part {
+            return nearest;
+        }
+        let triangle = self.mesh.triangle(part);
+        let d = c - triangle.project_local_point(c, true).point;
+        let dist = d.length();
+        let normal = if dist > 1e-15 { d / dist } else { triangle.normal().unwrap_or(nearest.normal) };
+        Gap { gap: dist - r, normal }
+    }
+
+    /// The nearest triangle not in `skip` (through the mesh's hierarchy); a centre inside a
+    /// closed mesh keeps the gap out of the body.
+    fn gap_without(&self, c: DVec3, r: f64, skip: &[Part]) -> Gap {
+        let nearest = self.gap(c, r);
+        if skip.is_empty() || (self.closed && nearest.gap < -r) {
+            return nearest;
+        }
+        let best = self.mesh.bvh().project_point(c, f64::MAX, |i, _| {
+            (!skip.contains(&i)).then(|| self.mesh.triangle(i).project_local_point(c, true))
+        });
+        let Some((i, (_, projection))) = best else {
+            return Gap { gap: f64::INFINITY, normal: nearest.normal };
+        };
+        let d = c - projection.point;
+        let dist = d.length();
+        let normal =
+            if dist > 1e-15 { d / dist } else { self.mesh.triangle(i).normal().unwrap_or(nearest.normal) };
+        Gap { gap: dist - r, normal }
     }
 }
 

@@ -75,19 +75,34 @@ pub trait Surface {
     fn sweep(&self, c0: DVec3, c1: DVec3, r: f64) -> Option<Crossing>;
     /// Broad phase: false only when the move `c0 → c1` certainly stays clear of the wall.
     fn may_touch(&self, c0: DVec3, c1: DVec3, r: f64) -> bool;
-    /// Every part of the wall within `within` (m) of the sphere's surface, as separate gaps:
-    /// a sphere in a box corner touches two or three faces at once, and a contact solver needs
-    /// each as a constraint. By default the nearest part only.
-    fn touching(&self, c: DVec3, r: f64, within: f64, mut each: impl FnMut(Gap))
+    /// Every part of the wall within `within` (m) of the sphere's surface, each with its
+    /// [`Part`] number and its own gap: a sphere in a box corner touches two or three faces at
+    /// once, and a contact solver needs each as a constraint. By default the wall is one part.
+    fn touching(&self, c: DVec3, r: f64, within: f64, mut each: impl FnMut(Part, Gap))
     where
         Self: Sized,
     {
         let g = self.gap(c, r);
         if g.gap < within {
-            each(g);
+            each(0, g);
         }
     }
+    /// The gap to one part (as numbered by [`Surface::touching`]). By default the wall is one
+    /// part.
+    fn part_gap(&self, _part: Part, c: DVec3, r: f64) -> Gap {
+        self.gap(c, r)
+    }
+    /// The gap to the wall without the parts in `skip` (as numbered by [`Surface::touching`]):
+    /// where the contact of a path is located, the parts it slides along or leaves at its start
+    /// must not hide the part it approaches. `+∞` when nothing is left. By default the wall is
+    /// one part, never skipped.
+    fn gap_without(&self, c: DVec3, r: f64, _skip: &[Part]) -> Gap {
+        self.gap(c, r)
+    }
 }
+
+/// A part of a wall: a face of a box, a triangle of a mesh; 0 for a wall of one part.
+pub type Part = u32;
 
 /// What a picture of a wall needs: where a bounded shape is, and the solid that stands for it.
 pub trait Drawable {
@@ -132,9 +147,21 @@ macro_rules! shapes {
                 }
             }
 
-            fn touching(&self, c: DVec3, r: f64, within: f64, each: impl FnMut(Gap)) {
+            fn touching(&self, c: DVec3, r: f64, within: f64, each: impl FnMut(Part, Gap)) {
                 match self {
                     $(Shape::$variant(s) => s.touching(c, r, within, each),)*
+                }
+            }
+
+            fn part_gap(&self, part: Part, c: DVec3, r: f64) -> Gap {
+                match self {
+                    $(Shape::$variant(s) => s.part_gap(part, c, r),)*
+                }
+            }
+
+            fn gap_without(&self, c: DVec3, r: f64, skip: &[Part]) -> Gap {
+                match self {
+                    $(Shape::$variant(s) => s.gap_without(c, r, skip),)*
                 }
             }
         }
@@ -209,6 +236,50 @@ pub(crate) fn convex_crossing(gap: impl Fn(f64) -> Gap, dir: DVec3, tol: f64) ->
         }
     }
     Some(lambda)
+}
+
+/// The part of `shape` that a sphere of radius `r` at `c`, moving at `v`, meets: among the
+/// parts within `within` (m) of it ([`Surface::touching`]: the faces of a box corner, the
+/// facets of a mesh crease), the one it approaches fastest; the nearest part when no other
+/// approaches faster (beyond round-off: the same face found two ways differs in the last
+/// bits). The nearest part alone is not enough: a sphere that reaches two faces of a box in
+/// one step and has just rebounded from one is as near to both, and the face it still
+/// approaches is the one that matters.
+pub fn contact_part(shape: &impl Surface, c: DVec3, r: f64, v: DVec3, within: f64) -> Gap {
+    let mut best = shape.gap(c, r);
+    let mut best_approach = -v.dot(best.normal);
+    let round_off = 1e-12 * v.length();
+    shape.touching(c, r, within, |_, g| {
+        let approach = -v.dot(g.normal);
+        if approach > best_approach + round_off {
+            (best, best_approach) = (g, approach);
+        }
+    });
+    best
+}
+
+/// The parts of `shape` that a sphere of radius `r` moving from `c0` (at velocity `v0`) to `c1`
+/// in a stretch of its path touches at its start (within `within`, m) and slides along: it
+/// does not move into them at the start (beyond round-off, 1e-12 of its speed), nor end
+/// inside them. Its gap to them stays zero, so locating its next contact must skip them
+/// ([`Surface::gap_without`]), or they hide the part it does approach (a bead falling along a
+/// box's side face onto the floor). A part the path ends inside is kept: a bead at rest on a
+/// floor under gravity, or back after a weak rebound.
+pub fn parts_slid_along(
+    shape: &impl Surface,
+    (c0, c1): (DVec3, DVec3),
+    r: f64,
+    v0: DVec3,
+    within: f64,
+) -> Vec<Part> {
+    let round_off = 1e-12 * v0.length();
+    let mut skip = Vec::new();
+    shape.touching(c0, r, within, |part, g| {
+        if v0.dot(g.normal) >= -round_off && shape.part_gap(part, c1, r).gap >= -within {
+            skip.push(part);
+        }
+    });
+    skip
 }
 
 /// Rounds of [`push_out`]. 3 settle a box corner (one face per round); a sphere touching many

@@ -1,6 +1,8 @@
 //! Helpers shared by the integration tests.
 #![allow(dead_code)]
 
+pub mod fixture;
+
 use std::path::Path;
 use wetbounce::{Scene, Simulation};
 

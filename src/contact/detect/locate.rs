@@ -30,16 +30,20 @@ pub fn locate_on_path(
         }
         (mid, gm)
     };
+    // The gap counts as closed within this (the location's own accuracy).
+    let tol_gap = 1e-13 * length_scale;
     let (mut sa, mut ga) = (0.0, g(0.0));
-    if ga <= 0.0 {
-        // Starting in contact. Departing first and coming back (e.g. right after a weak
-        // rebound): find a point in between where the gap is open.
+    if ga <= tol_gap {
+        // Starting in contact, to round-off: right after a rebound, or at one face of a box
+        // corner while the other is still ahead. Departing first and coming back (a weak
+        // rebound), or going on to another part: find a point in between where the gap is
+        // open. (Taking the start as the root would report a second contact at the first.)
         let mut s = sb;
         let mut found = false;
         for _ in 0..60 {
             s *= 0.5;
             let gs = g(s);
-            if gs > 0.0 {
+            if gs > tol_gap {
                 (sa, ga, found) = (s, gs, true);
                 break;
             }
@@ -50,7 +54,6 @@ pub fn locate_on_path(
         }
     }
     // Illinois: regula falsi that halves the weight of an end point kept twice in a row.
-    let tol_gap = 1e-13 * length_scale;
     let mut side = 0;
     for _ in 0..200 {
         let s = (sa * gb - sb * ga) / (gb - ga);

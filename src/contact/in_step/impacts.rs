@@ -2,12 +2,12 @@
 //! event is recorded and the tracks go on from the contact point.
 
 use super::super::Ctx;
-use super::track::Track;
+use super::track::{TOUCHING, Track};
 use crate::contact::event::kinetic_energy;
 use crate::contact::{ContactEvent, LastingContact, Other, Outcome, PairBody, pair_impact, wall_impact};
 use crate::flight::{Motion, Segment};
 use crate::particles::{NO_WALL, Particles, State};
-use crate::walls::Surface;
+use crate::walls::{Surface, contact_part};
 use glam::DVec3;
 
 impl<'a, M: Motion> Ctx<'a, M> {
@@ -22,8 +22,10 @@ impl<'a, M: Motion> Ctx<'a, M> {
     ) {
         let wall = &self.walls()[w];
         let (x, v) = self.at(tr, t);
-        let g = wall.shape.gap(x, tr.r());
-        let (xc, n) = (x - g.gap * g.normal, g.normal);
+        // Put on the wall along the nearest part; the bounce is off the part it approaches.
+        let near = wall.shape.gap(x, tr.r());
+        let xc = x - near.gap * near.normal;
+        let n = contact_part(&wall.shape, x, tr.r(), v, TOUCHING * tr.r()).normal;
         let impact = wall_impact(&self.kinds[tr.k], tr.d, &wall.material, self.fluid, self.rule, v, n);
         let m = self.inertia_of(tr.k, tr.d);
         events.push(ContactEvent {

@@ -6,8 +6,13 @@ use crate::contact::detect::end_of_step::detect_at_end;
 use crate::contact::{ImpactLocation, locate_on_path};
 use crate::flight::{Flight, Motion, Segment};
 use crate::particles::{Next, Particles, State};
-use crate::walls::{Crossing, Surface};
+use crate::walls::{Crossing, Surface, parts_slid_along};
 use glam::DVec3;
+
+/// Gap (fraction of the radius) within which a part of a wall counts as touched at the start of
+/// a path: far above the impact location's round-off (1e-13 of the radius), far below a real
+/// gap.
+pub(crate) const TOUCHING: f64 = 1e-9;
 
 /// One particle's motion through the step: the segment since its last contact, and where that
 /// segment ends at the end of the step.
@@ -89,12 +94,19 @@ impl<'a, M: Motion> Ctx<'a, M> {
                 if !wall.shape.may_touch(seg.x, tr.end.x, r) {
                     return None;
                 }
-                let gap = |x: DVec3| wall.shape.gap(x, r).gap;
                 if self.impact_location == ImpactLocation::EndOfStep {
                     let g = wall.shape.gap(tr.end.x, r);
                     return detect_at_end(g.gap, tr.end.v.dot(g.normal), t1).map(|t| (w, t));
                 }
                 let crossing = wall.shape.sweep(seg.x, tr.end.x, r)?;
+                // The parts touched at the start and slid along are not where this contact is:
+                // their zero gap would hide the part approached.
+                let skip = if wall.shape.gap(seg.x, r).gap <= TOUCHING * r {
+                    parts_slid_along(&wall.shape, (seg.x, tr.end.x), r, seg.v, TOUCHING * r)
+                } else {
+                    Vec::new()
+                };
+                let gap = |x: DVec3| wall.shape.gap_without(x, r, &skip).gap;
                 let s = locate_on_path(|s| gap(self.at(tr, seg.t + s).0), h, crossing, gap(tr.end.x), r)?;
                 Some((w, seg.t + s))
             })
