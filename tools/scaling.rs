@@ -3,7 +3,9 @@
 //!
 //! Run: `cargo run --release --bin scaling -- [OUT.csv] [MAX_N] [CASE]` (defaults: standard
 //! output, 1,000,000, every case; `-` for standard output); `SCALING_STEPS=K` times K steps
-//! instead of 2·10⁷/N between 200 and 2000. Cases:
+//! instead of 2·10⁷/N between 200 and 2000; `SCALING_N=N` runs that one N instead of the sweep
+//! 10³…MAX_N, `SCALING_THREADS=T` that one thread count instead of 1 and 2 (one run per process,
+//! so that `/usr/bin/time -v` gives its peak memory). Cases:
 //! - `dilute`: the LIGGGHTS peer's scene scaled to N — beads on a cubic lattice at 3 d in a box
 //!   of liquid (ρ = 1000 kg/m³, μ = 0.1 Pa·s), gravity, buoyancy, Stokes drag, Euler, 20 mm above
 //!   the floor so that no bead touches a wall in the timed steps;
@@ -15,7 +17,8 @@
 //! - `fines`: `dilute` with beads of 100 µm (lattice at 3 d), N of them, and the exponential
 //!   integrator (their drag relaxation time, 14 µs, is below the step);
 //! - `polydisperse`: `fines` plus one bead of 10 mm (size ratio 100) 10 mm beside the lattice,
-//!   far from every fine: the broad phase must not pay for the one large bead.
+//!   far from every fine: the broad phase must not pay for the one large bead;
+//! - `polydisperse-4mm`: the same with a bead of 4 mm (size ratio 40).
 //!
 //! `fines` and `polydisperse` time their first step too (no untimed warm-up), since the
 //! neighbour list's first build is what they measure.
@@ -30,17 +33,21 @@ const D: f64 = 2.5e-3;
 const FINE: f64 = 1e-4;
 /// The one large bead's diameter in `polydisperse` (m): 100 fines' diameters.
 const LARGE: f64 = 1e-2;
+/// The one large bead's diameter in `polydisperse-4mm` (m).
+const LARGE_4MM: f64 = 4e-3;
 
 fn scene(case: &str, n: usize) -> Scene {
     let paper = case.starts_with("paper");
     let pairs5 = case == "pairs5";
-    let polydisperse = case == "polydisperse";
+    let polydisperse = case.starts_with("polydisperse");
+    let large = if case == "polydisperse-4mm" { LARGE_4MM } else { LARGE };
     let d = if polydisperse || case == "fines" { FINE } else { D };
     // Lattice spacing: 3 d (dilute), or the 5 % volume fraction (π/6 d³/a³ = 0.05).
     let spacing = if pairs5 { d * (std::f64::consts::PI / 0.3).cbrt() } else { 3.0 * d };
     let side = (n as f64).cbrt().ceil();
     let extent = side * spacing;
-    // Room beside the lattice for the large bead (10 mm from the nearest fine) in `polydisperse`.
+    // Room beside the lattice for the large bead (its diameter from the nearest fine) in
+    // `polydisperse`: the box is the same size for both large beads.
     let beside = if polydisperse { 3.0 * LARGE } else { 0.0 };
     let mut effects = vec!["gravity = {}", "buoyancy = {}"];
     effects.push(if paper || pairs5 {
@@ -90,11 +97,12 @@ fn scene(case: &str, n: usize) -> Scene {
         );
     }
     if polydisperse {
-        // Its centre 1.5 d beyond the lattice's side: 10 mm of liquid between it and the fines.
+        // Its centre 1.5 d beyond the lattice's side: its diameter of liquid between it and the
+        // fines.
         text += &format!(
-            "[[particles]]\nkind = \"glass\"\ndiameter = {LARGE}\nposition = [{}, {}, {}]\n",
-            extent + 1.5 * LARGE,
-            1.5 * LARGE,
+            "[[particles]]\nkind = \"glass\"\ndiameter = {large}\nposition = [{}, {}, {}]\n",
+            extent + 1.5 * large,
+            1.5 * large,
             0.02 + 0.5 * extent
         );
     }
@@ -130,11 +138,22 @@ fn main() {
         "pairs5",
         "fines",
         "polydisperse",
+        "polydisperse-4mm",
     ];
+    let env_number = |name: &str| {
+        std::env::var(name).ok().map(|s| {
+            s.parse::<usize>().unwrap_or_else(|_| fail(format!("{name} must be a whole number, got {s}")))
+        })
+    };
+    let ns: Vec<usize> = match env_number("SCALING_N") {
+        Some(n) => vec![n],
+        None => [1_000, 10_000, 100_000, 1_000_000].into_iter().filter(|&n| n <= max_n).collect(),
+    };
+    let thread_counts: Vec<usize> = env_number("SCALING_THREADS").map_or(vec![1, 2], |t| vec![t]);
     for case in cases.into_iter().filter(|c| only.is_none_or(|o| o == c)) {
-        for n in [1_000, 10_000, 100_000, 1_000_000].into_iter().filter(|&n| n <= max_n) {
+        for &n in &ns {
             let base = scene(case, n);
-            for threads in [1, 2] {
+            for &threads in &thread_counts {
                 let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build().expect("threads");
                 let mut sim = base.simulation();
                 sim.setup.pair_collisions = case != "paper-no-pairs";
@@ -146,7 +165,7 @@ fn main() {
                     .unwrap_or((20_000_000 / count).clamp(200, 2_000));
                 // One warm-up step builds the neighbour list and the scratch columns — except in
                 // the cases that measure that build.
-                if !matches!(case, "fines" | "polydisperse") {
+                if !(case == "fines" || case.starts_with("polydisperse")) {
                     pool.install(|| sim.step(base.setup.dt));
                 }
                 sim.record.stage_times = Default::default();
@@ -166,9 +185,10 @@ fn main() {
                 }
                 // Where the time went, on standard error (the CSV stays plain).
                 eprintln!(
-                    "{case} n={count} threads={threads}: {:?}, {} neighbour-list builds, {} lasting contacts",
+                    "{case} n={count} threads={threads}: {:?}, {} neighbour-list builds, {} pairs listed, {} lasting contacts",
                     sim.record.stage_times,
                     sim.world.neighbours.builds - builds,
+                    sim.world.neighbours.pairs.len(),
                     sim.world.lasting.len()
                 );
             }
