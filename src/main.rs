@@ -375,28 +375,36 @@ fn check_scene(path: &Path, options: LoadOptions) -> Result<String, String> {
         scene.setup.rule.tangential_restitution,
         scene.setup.rule.hold_at_contact
     );
+    let reports = kind_reports(&scene);
+    // The kind column fits the longest name; a number too wide for its column is printed in
+    // short scientific form (St ~ 4e7 for a bead in air), so the columns stay aligned.
+    let kind_width = reports.iter().map(|r| r.kind.chars().count()).max().unwrap_or(0).max(12);
     let _ = writeln!(
         text,
-        "  {:<12} {:>9} {:>10} {:>8} {:>8} {:>7} {:>10} {:>10} {:>8}  bounces",
+        "  {:<kind_width$} {:>9} {:>10} {:>8} {:>8} {:>7} {:>10} {:>10} {:>8}  bounces",
         "kind", "d [mm]", "V_t [m/s]", "Re", "St", "eps", "t_c [ms]", "t_r [ms]", "t_c/t_r"
     );
     // In vacuum or without drag some time scales do not exist: print "-".
-    let num = |v: f64, prec: usize| {
-        if v.is_finite() { format!("{v:.prec$}") } else { "-".into() }
+    let num = |v: f64, prec: usize, width: usize| {
+        if !v.is_finite() {
+            return "-".to_string();
+        }
+        let fixed = format!("{v:.prec$}");
+        if fixed.len() <= width { fixed } else { format!("{v:.2e}") }
     };
-    for r in kind_reports(&scene) {
+    for r in reports {
         let _ = writeln!(
             text,
-            "  {:<12} {:>9.4} {:>10} {:>8} {:>8} {:>7.3} {:>10} {:>10} {:>8}  {}{}",
+            "  {:<kind_width$} {:>9} {:>10} {:>8} {:>8} {:>7.3} {:>10} {:>10} {:>8}  {}{}",
             r.kind,
-            r.diameter * 1e3,
-            num(r.terminal_velocity, 4),
-            num(r.reynolds, 2),
-            num(r.stokes, 2),
+            num(r.diameter * 1e3, 4, 9),
+            num(r.terminal_velocity, 4, 10),
+            num(r.reynolds, 2, 8),
+            num(r.stokes, 2, 8),
             r.eps,
-            num(r.contact_time * 1e3, 4),
-            num(r.relaxation_time * 1e3, 3),
-            num(r.contact_time / r.relaxation_time, 4),
+            num(r.contact_time * 1e3, 4, 10),
+            num(r.relaxation_time * 1e3, 3, 10),
+            num(r.contact_time / r.relaxation_time, 4, 8),
             if r.bounces { "yes" } else { "no" },
             if r.rising { " (rises)" } else { "" }
         );

@@ -82,6 +82,7 @@ fn mcap_has_foxglove_channels_one_cloud_per_frame_and_the_csv_positions() {
             ch("/events", "wetbounce.ContactEvent", "jsonschema", "json"),
             ch("/particles", "foxglove.PointCloud", "protobuf", "protobuf"),
             ch("/scene", "foxglove.SceneUpdate", "protobuf", "protobuf"),
+            ch("/walls", "foxglove.SceneUpdate", "protobuf", "protobuf"),
         ])
     );
 
@@ -116,10 +117,11 @@ fn mcap_has_foxglove_channels_one_cloud_per_frame_and_the_csv_positions() {
         assert_eq!(f64_at(&cloud.data, fields["diameter"].0 as usize), 2.75e-3);
     }
 
-    // Walls once, then the spheres every frame.
+    // Walls once on their own topic, the spheres every frame.
     let scene_msgs = &d.messages["/scene"];
-    assert_eq!(scene_msgs.len(), 1 + clouds.len());
-    let walls = SceneUpdate::decode(&scene_msgs[0].1[..]).unwrap();
+    assert_eq!(scene_msgs.len(), clouds.len());
+    assert_eq!(d.messages["/walls"].len(), 1);
+    let walls = SceneUpdate::decode(&d.messages["/walls"][0].1[..]).unwrap();
     assert_eq!(walls.entities[0].id, "walls");
     assert_eq!(walls.entities[0].cubes.len(), 1, "the plane is drawn as a thin slab");
     let last = SceneUpdate::decode(&scene_msgs.last().unwrap().1[..]).unwrap();
@@ -231,8 +233,7 @@ material = {{ youngs_modulus = 6.0e10, poisson_ratio = 0.23 }}
     std::fs::write(&scene, text).unwrap();
     let bytes = run_with_mcap_and_csv(&scene, dir.path(), &["--max-spheres", "1"]);
     let d = decode(&bytes);
-    let scene_msgs = &d.messages["/scene"];
-    let walls = SceneUpdate::decode(&scene_msgs[0].1[..]).unwrap();
+    let walls = SceneUpdate::decode(&d.messages["/walls"][0].1[..]).unwrap();
     let e = &walls.entities[0];
     assert_eq!((e.cylinders.len(), e.cubes.len(), e.triangles.len()), (1, 1, 1));
     let cyl = &e.cylinders[0];
@@ -243,6 +244,29 @@ material = {{ youngs_modulus = 6.0e10, poisson_ratio = 0.23 }}
     // The plate: 12 triangles.
     assert_eq!(e.triangles[0].indices.len(), 36);
     // Two particles, a limit of one sphere: no spheres entity at all.
-    assert_eq!(scene_msgs.len(), 1);
+    assert!(!d.messages.contains_key("/scene"));
     assert_eq!(d.messages["/particles"].len(), 3);
+}
+
+/// The latest message of `topic` logged at or before `t_ns`, as a viewer that seeks shows it.
+fn latest_at<'a>(d: &'a Decoded, topic: &str, t_ns: u64) -> Option<&'a [u8]> {
+    d.messages.get(topic)?.iter().rev().find(|(t, _)| *t <= t_ns).map(|(_, data)| &data[..])
+}
+
+#[test]
+fn a_viewer_seeking_to_any_time_still_has_the_walls_and_the_spheres() {
+    let dir = tempfile::tempdir().unwrap();
+    let bytes = run_with_mcap_and_csv(Path::new("scenes/toluene_drop.toml"), dir.path(), &[]);
+    let d = decode(&bytes);
+    // Foxglove keeps, per topic, the latest message before the seek time: at every frame time
+    // and between frames, both the walls and the particle's sphere must be there.
+    let times: Vec<u64> = d.messages["/particles"].iter().map(|m| m.0).collect();
+    let seeks = times.iter().step_by(37).flat_map(|&t| [t, t + 1]);
+    for t in seeks {
+        let walls = SceneUpdate::decode(latest_at(&d, "/walls", t).expect("walls at every time")).unwrap();
+        let wall = walls.entities.iter().find(|e| e.id == "walls").expect("the walls entity");
+        assert_eq!(wall.cubes.len(), 1, "the plane's slab at t = {t} ns");
+        let scene = SceneUpdate::decode(latest_at(&d, "/scene", t).expect("spheres at every time")).unwrap();
+        assert_eq!(scene.entities[0].spheres.len(), 1, "the drop's sphere at t = {t} ns");
+    }
 }

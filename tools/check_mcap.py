@@ -33,6 +33,7 @@ from mcap_protobuf.decoder import DecoderFactory as ProtobufDecoderFactory
 ROOT = Path(__file__).resolve().parent.parent
 EXPECTED = {
     "/particles": ("foxglove.PointCloud", "protobuf", "protobuf"),
+    "/walls": ("foxglove.SceneUpdate", "protobuf", "protobuf"),
     "/scene": ("foxglove.SceneUpdate", "protobuf", "protobuf"),
     "/events": ("wetbounce.ContactEvent", "jsonschema", "json"),
 }
@@ -92,7 +93,7 @@ def check_with_mcap_library(path, out):
                 event = decoded
                 check(set(event) == set(events[0].keys()), f"event fields {sorted(event)}")
                 n_events += 1
-            elif topic == "/scene":
+            elif topic in ("/scene", "/walls"):
                 check(len(decoded.entities) > 0, "empty SceneUpdate")
         check(len(clouds) == len(rows), f"{len(clouds)} points, {len(rows)} CSV rows")
         for (t_ns, xyz), row in zip(clouds, rows):

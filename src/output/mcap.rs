@@ -4,9 +4,12 @@
 //! - `/particles`: `foxglove.PointCloud` per frame, fields `x y z` (float64, m), `id` (uint32),
 //!   `diameter` (float64, m), `speed` (float64, m/s), `state` (uint8: 0 free, 1 held,
 //!   2 resting), `kind` (uint16, index into the scene's kinds);
-//! - `/scene`: `foxglove.SceneUpdate` — entity `walls` once at t = 0, and entity `particles`
-//!   (spheres at true diameter coloured by state) per frame while the particle count is at
-//!   most [`McapOptions::max_spheres`];
+//! - `/walls`: `foxglove.SceneUpdate` — entity `walls`, once at t = 0, on a topic of its own:
+//!   a viewer that seeks shows the latest message of each topic before the seek time, so walls
+//!   sharing a topic with the per-frame spheres were lost at the first seek; alone on their
+//!   topic, the message at t = 0 is the latest one at every time, and costs nothing to repeat;
+//! - `/scene`: `foxglove.SceneUpdate` — entity `particles` (spheres at true diameter coloured
+//!   by state) per frame while the particle count is at most [`McapOptions::max_spheres`];
 //! - `/events`: JSON (`jsonschema`), one message per contact with the columns of `events.csv`.
 //!
 //! Metadata records `scene` (`path`, `source`: the scene file's text) and `wetbounce`
@@ -40,7 +43,9 @@ pub use recover::{Recovered, recover};
 
 /// Topic of the point clouds.
 pub const PARTICLES_TOPIC: &str = "/particles";
-/// Topic of the scene updates (walls, spheres).
+/// Topic of the walls (a scene update at t = 0).
+pub const WALLS_TOPIC: &str = "/walls";
+/// Topic of the particles' spheres (a scene update per frame).
 pub const SCENE_TOPIC: &str = "/scene";
 /// Topic of the contact events.
 pub const EVENTS_TOPIC: &str = "/events";
@@ -84,7 +89,7 @@ pub struct McapOptions {
     pub scene_source: String,
 }
 
-/// Writes `/particles`, `/scene` and `/events` to an MCAP file (zstd chunks).
+/// Writes `/particles`, `/walls`, `/scene` and `/events` to an MCAP file (zstd chunks).
 pub struct McapSink {
     path: PathBuf,
     options: McapOptions,
@@ -99,6 +104,7 @@ pub struct McapSink {
     // An error was reported: the file cannot be finished, and is not named twice.
     failed: bool,
     particles: Channel<PointCloud>,
+    walls: Channel<SceneUpdate>,
     scene: Channel<SceneUpdate>,
     events: Arc<RawChannel>,
     walls_written: bool,
@@ -168,6 +174,7 @@ impl McapSink {
             .write_metadata("wetbounce", metadata(&[("version", env!("CARGO_PKG_VERSION"))]))
             .map_err(|e| err(&e))?;
         let particles = ChannelBuilder::new(PARTICLES_TOPIC).context(&ctx).build::<PointCloud>();
+        let walls = ChannelBuilder::new(WALLS_TOPIC).context(&ctx).build::<SceneUpdate>();
         let scene = ChannelBuilder::new(SCENE_TOPIC).context(&ctx).build::<SceneUpdate>();
         let events = ChannelBuilder::new(EVENTS_TOPIC)
             .context(&ctx)
@@ -186,6 +193,7 @@ impl McapSink {
             first_error,
             failed: false,
             particles,
+            walls,
             scene,
             events,
             walls_written: false,
@@ -251,7 +259,7 @@ impl McapSink {
                 }),
             }
         }
-        self.scene.log_with_time(
+        self.walls.log_with_time(
             &SceneUpdate { deletions: Vec::new(), entities: vec![entity] },
             log_time_ns(sim.world.time),
         );

@@ -3,7 +3,7 @@
 //! - [`TrajectoryCsv`]: `trajectories.csv`, one row per particle per output frame;
 //! - [`EventCsv`]: `events.csv`, one row per contact;
 //! - [`Statistics`]: counts and means for the end-of-run summary;
-//! - [`McapSink`]: `<scene>.mcap` for Foxglove and rerun (`/particles`, `/scene`, `/events`);
+//! - [`McapSink`]: `<scene>.mcap` for Foxglove and rerun (`/particles`, `/walls`, `/scene`, `/events`);
 //! - [`RerunSink`] (feature `rerun`): `<scene>.rrd`, rerun's native recording;
 //! - [`Progress`]: the progress bar on standard error.
 //!

@@ -139,8 +139,13 @@ fn draw(out: &Path, panels: &[Panel]) -> Result<(), Box<dyn std::error::Error>> 
                 continue;
             }
             chart.draw_series(LineSeries::new([(t0, z), (t1, z)], BLACK.stroke_width(2)))?;
+            // The label sits beside the line, on the side of the paths (into the plot), never
+            // on it: (4, 4) puts its top 4 px below the line, (4, -19) its bottom 4 px above.
             let at = (t0 + 0.02 * (t1 - t0), z);
-            chart.draw_series([Text::new(format!("wall {name}"), at, ("sans-serif", 15).into_font())])?;
+            let below = z > 0.5 * (lo + hi);
+            let label = EmptyElement::at(at)
+                + Text::new(format!("wall {name}"), (4, if below { 4 } else { -19 }), ("sans-serif", 15));
+            chart.draw_series([label])?;
         }
         for path in p.paths.values() {
             // Each stretch between two frames takes the colour of the state at its start.
