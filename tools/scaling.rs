@@ -3,7 +3,9 @@
 //!
 //! Run: `cargo run --release --bin scaling -- [OUT.csv] [MAX_N] [CASE]` (defaults: standard
 //! output, 1,000,000, every case; `-` for standard output); `SCALING_STEPS=K` times K steps
-//! instead of 2·10⁷/N between 200 and 2000. Cases:
+//! instead of 2·10⁷/N between 200 and 2000; `SCALING_N=N` runs that one N instead of the sweep
+//! 10³…MAX_N, `SCALING_THREADS=T` that one thread count instead of 1 and 2 (one run per process,
+//! so that `/usr/bin/time -v` gives its peak memory). Cases:
 //! - `dilute`: the LIGGGHTS peer's scene scaled to N — beads on a cubic lattice at 3 d in a box
 //!   of liquid (ρ = 1000 kg/m³, μ = 0.1 Pa·s), gravity, buoyancy, Stokes drag, Euler, 20 mm above
 //!   the floor so that no bead touches a wall in the timed steps;
@@ -11,7 +13,15 @@
 //! - `paper-no-<effect>`: `paper` with one effect left out (and `paper-no-pairs` without
 //!   particle–particle contacts), to show a scene pays only for what it names;
 //! - `pairs5`: two bead densities at 5 % volume fraction, settling at different speeds, so the
-//!   neighbour list and pair contacts are exercised.
+//!   neighbour list and pair contacts are exercised;
+//! - `fines`: `dilute` with beads of 100 µm (lattice at 3 d), N of them, and the exponential
+//!   integrator (their drag relaxation time, 14 µs, is below the step);
+//! - `polydisperse`: `fines` plus one bead of 10 mm (size ratio 100) 10 mm beside the lattice,
+//!   far from every fine: the broad phase must not pay for the one large bead;
+//! - `polydisperse-4mm`: the same with a bead of 4 mm (size ratio 40).
+//!
+//! `fines` and `polydisperse` time their first step too (no untimed warm-up), since the
+//! neighbour list's first build is what they measure.
 
 use std::io::Write;
 use std::path::Path;
@@ -19,14 +29,26 @@ use std::time::Instant;
 use wetbounce::Scene;
 
 const D: f64 = 2.5e-3;
+/// The fines' diameter in `fines` and `polydisperse` (m).
+const FINE: f64 = 1e-4;
+/// The one large bead's diameter in `polydisperse` (m): 100 fines' diameters.
+const LARGE: f64 = 1e-2;
+/// The one large bead's diameter in `polydisperse-4mm` (m).
+const LARGE_4MM: f64 = 4e-3;
 
 fn scene(case: &str, n: usize) -> Scene {
     let paper = case.starts_with("paper");
     let pairs5 = case == "pairs5";
+    let polydisperse = case.starts_with("polydisperse");
+    let large = if case == "polydisperse-4mm" { LARGE_4MM } else { LARGE };
+    let d = if polydisperse || case == "fines" { FINE } else { D };
     // Lattice spacing: 3 d (dilute), or the 5 % volume fraction (π/6 d³/a³ = 0.05).
-    let spacing = if pairs5 { D * (std::f64::consts::PI / 0.3).cbrt() } else { 3.0 * D };
+    let spacing = if pairs5 { d * (std::f64::consts::PI / 0.3).cbrt() } else { 3.0 * d };
     let side = (n as f64).cbrt().ceil();
     let extent = side * spacing;
+    // Room beside the lattice for the large bead (its diameter from the nearest fine) in
+    // `polydisperse`: the box is the same size for both large beads.
+    let beside = if polydisperse { 3.0 * LARGE } else { 0.0 };
     let mut effects = vec!["gravity = {}", "buoyancy = {}"];
     effects.push(if paper || pairs5 {
         "drag = { law = \"schiller_naumann\" }"
@@ -39,7 +61,14 @@ fn scene(case: &str, n: usize) -> Scene {
     if let Some(off) = case.strip_prefix("paper-no-") {
         effects.retain(|e| !e.starts_with(off));
     }
-    let integrator = if paper || pairs5 { "rk2" } else { "euler" };
+    // The fines relax in 14 µs, below the step: only the exponential integrator is stable.
+    let integrator = if paper || pairs5 {
+        "rk2"
+    } else if d == FINE {
+        "exponential"
+    } else {
+        "euler"
+    };
     let mut text = format!(
         "[simulation]\ndt = 1e-4\nduration = 1.0\noutput_interval = 1.0\nintegrator = \"{integrator}\"\n\
          [fluid]\ndensity = 1000.0\nviscosity = 0.1\n[effects]\n{}\n",
@@ -51,7 +80,9 @@ fn scene(case: &str, n: usize) -> Scene {
         );
     }
     text += &format!(
-        "[[walls]]\nname = \"box\"\ntype = \"box\"\nmin = [0.0, 0.0, 0.0]\nmax = [{extent}, {extent}, {}]\ninside = true\n",
+        "[[walls]]\nname = \"box\"\ntype = \"box\"\nmin = [0.0, 0.0, 0.0]\nmax = [{}, {}, {}]\ninside = true\n",
+        extent + beside,
+        extent + beside,
         0.04 + extent * 1.2
     );
     // Layers alternate between the two kinds in `pairs5`, so they settle through each other.
@@ -61,8 +92,18 @@ fn scene(case: &str, n: usize) -> Scene {
         // 20 mm above the floor: no bead reaches it within the timed steps.
         let z0 = 0.02 + layer as f64 * spacing;
         text += &format!(
-            "[[lattice]]\nkind = \"{kind}\"\ndiameter = {D}\nmin = [0.0, 0.0, {z0}]\nmax = [{extent}, {extent}, {}]\nspacing = {spacing}\n",
+            "[[lattice]]\nkind = \"{kind}\"\ndiameter = {d}\nmin = [0.0, 0.0, {z0}]\nmax = [{extent}, {extent}, {}]\nspacing = {spacing}\n",
             z0 + 0.99 * spacing
+        );
+    }
+    if polydisperse {
+        // Its centre 1.5 d beyond the lattice's side: its diameter of liquid between it and the
+        // fines.
+        text += &format!(
+            "[[particles]]\nkind = \"glass\"\ndiameter = {large}\nposition = [{}, {}, {}]\n",
+            extent + 1.5 * large,
+            1.5 * large,
+            0.02 + 0.5 * extent
         );
     }
     Scene::from_str(&text, Path::new("scaling.toml")).unwrap_or_else(|e| panic!("{case}: {e}"))
@@ -95,11 +136,24 @@ fn main() {
         "paper-no-drag",
         "paper-no-pairs",
         "pairs5",
+        "fines",
+        "polydisperse",
+        "polydisperse-4mm",
     ];
+    let env_number = |name: &str| {
+        std::env::var(name).ok().map(|s| {
+            s.parse::<usize>().unwrap_or_else(|_| fail(format!("{name} must be a whole number, got {s}")))
+        })
+    };
+    let ns: Vec<usize> = match env_number("SCALING_N") {
+        Some(n) => vec![n],
+        None => [1_000, 10_000, 100_000, 1_000_000].into_iter().filter(|&n| n <= max_n).collect(),
+    };
+    let thread_counts: Vec<usize> = env_number("SCALING_THREADS").map_or(vec![1, 2], |t| vec![t]);
     for case in cases.into_iter().filter(|c| only.is_none_or(|o| o == c)) {
-        for n in [1_000, 10_000, 100_000, 1_000_000].into_iter().filter(|&n| n <= max_n) {
+        for &n in &ns {
             let base = scene(case, n);
-            for threads in [1, 2] {
+            for &threads in &thread_counts {
                 let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build().expect("threads");
                 let mut sim = base.simulation();
                 sim.setup.pair_collisions = case != "paper-no-pairs";
@@ -109,8 +163,11 @@ fn main() {
                     .ok()
                     .and_then(|s| s.parse().ok())
                     .unwrap_or((20_000_000 / count).clamp(200, 2_000));
-                // One warm-up step builds the neighbour list and the scratch columns.
-                pool.install(|| sim.step(base.setup.dt));
+                // One warm-up step builds the neighbour list and the scratch columns — except in
+                // the cases that measure that build.
+                if !(case == "fines" || case.starts_with("polydisperse")) {
+                    pool.install(|| sim.step(base.setup.dt));
+                }
                 sim.record.stage_times = Default::default();
                 let builds = sim.world.neighbours.builds;
                 let start = Instant::now();
@@ -128,9 +185,10 @@ fn main() {
                 }
                 // Where the time went, on standard error (the CSV stays plain).
                 eprintln!(
-                    "{case} n={count} threads={threads}: {:?}, {} neighbour-list builds, {} lasting contacts",
+                    "{case} n={count} threads={threads}: {:?}, {} neighbour-list builds, {} pairs listed, {} lasting contacts",
                     sim.record.stage_times,
                     sim.world.neighbours.builds - builds,
+                    sim.world.neighbours.pairs.len(),
                     sim.world.lasting.len()
                 );
             }

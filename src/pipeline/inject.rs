@@ -3,6 +3,7 @@
 //! Injection runs on one thread, in injector order, each injector with its own seeded ChaCha8
 //! generator, so the particles it adds (and their ids) do not depend on the thread count.
 
+use crate::contact::detect::PlacedSpheres;
 use crate::particles::Particles;
 use crate::walls::{Surface, Wall};
 use glam::DVec3;
@@ -125,6 +126,16 @@ impl SizeDistribution {
         }
     }
 
+    /// The smallest diameter it can give (m).
+    pub fn min_diameter(&self) -> f64 {
+        match *self {
+            SizeDistribution::Fixed(d) => d,
+            SizeDistribution::Uniform { min, .. }
+            | SizeDistribution::Normal { min, .. }
+            | SizeDistribution::LogNormal { min, .. } => min,
+        }
+    }
+
     fn sample(&self, rng: &mut ChaCha8Rng) -> f64 {
         let truncated = |rng: &mut ChaCha8Rng, min: f64, max: f64, draw: &dyn Fn(f64) -> f64| {
             let mut d = f64::NAN;
@@ -218,14 +229,23 @@ pub(crate) fn run(
         if target <= state.due {
             continue;
         }
-        // Only particles near the region can be in the way: gather them once per step.
-        let d_max = p.diameter.iter().copied().fold(inj.diameter.max_diameter(), f64::max);
+        // Only particles near the region can be in the way — each within its own radius plus
+        // the largest new one of the region, not within the largest diameter of the scene —
+        // gathered once per step, binned by size.
+        let r_new = 0.5 * inj.diameter.max_diameter();
         let (lo, hi) = inj.region.bounds();
-        let (lo, hi) = (lo - DVec3::splat(d_max), hi + DVec3::splat(d_max));
         let mut near: Vec<(DVec3, f64)> = (0..p.len())
-            .filter(|&i| p.pos[i].cmpge(lo).all() && p.pos[i].cmple(hi).all())
+            .filter(|&i| {
+                let margin = DVec3::splat(r_new + 0.5 * p.diameter[i]);
+                p.pos[i].cmpge(lo - margin).all() && p.pos[i].cmple(hi + margin).all()
+            })
             .map(|i| (p.pos[i], 0.5 * p.diameter[i]))
             .collect();
+        let smallest = near.iter().map(|&(_, r)| 2.0 * r).fold(inj.diameter.min_diameter(), f64::min);
+        let mut placed_near = PlacedSpheres::new(smallest);
+        for (k, &(y, ry)) in near.iter().enumerate() {
+            placed_near.insert(y, ry, k as u32);
+        }
         while state.due < target {
             state.due += 1;
             let placed = (0..MAX_ATTEMPTS).find_map(|_| {
@@ -233,7 +253,10 @@ pub(crate) fn run(
                 let x = inj.region.sample(&mut state.rng);
                 let r = 0.5 * d;
                 let clear = walls.iter().all(|w| w.shape.gap(x, r).gap >= 0.0)
-                    && near.iter().all(|&(y, ry)| (y - x).length_squared() >= (r + ry) * (r + ry));
+                    && placed_near.all_clear(x, r, |k| {
+                        let (y, ry) = near[k as usize];
+                        (y - x).length_squared() >= (r + ry) * (r + ry)
+                    });
                 clear.then_some((x, d))
             });
             let Some((x, d)) = placed else {
@@ -243,6 +266,7 @@ pub(crate) fn run(
             let i = p.push(*next_id, inj.kind, d, x, inj.velocity);
             p.born[i] = t1;
             *next_id += 1;
+            placed_near.insert(x, 0.5 * d, near.len() as u32);
             near.push((x, 0.5 * d));
             state.injected += 1;
             added = true;
@@ -273,6 +297,36 @@ mod tests {
         assert_eq!(inj.due_by(1.0001), 1);
         assert_eq!(inj.due_by(1.15), 2);
         assert_eq!(inj.due_by(5.0), 10);
+    }
+
+    #[test]
+    fn fines_injected_around_one_large_bead_overlap_neither_it_nor_each_other() {
+        let inj = Injector {
+            name: "fines".into(),
+            kind: 0,
+            rate: 2e6,
+            region: Region::Box { min: DVec3::splat(-0.006), max: DVec3::splat(0.006) },
+            diameter: SizeDistribution::Uniform { min: 1e-4, max: 2e-4 },
+            velocity: DVec3::ZERO,
+            start: 0.0,
+            stop: f64::INFINITY,
+            seed: 5,
+        };
+        let mut p = Particles::default();
+        p.push(0, 0, 1e-2, DVec3::ZERO, DVec3::ZERO);
+        let mut states = vec![inj.start()];
+        let mut next_id = 1;
+        // 2000 due in one step: those placed earlier in the step are in the later ones' way.
+        assert!(run(std::slice::from_ref(&inj), &mut states, &[], &mut p, &mut next_id, 1e-3));
+        assert_eq!(states[0].due, 2000);
+        assert_eq!(states[0].injected as usize + 1, p.len());
+        assert!(states[0].injected > 1500, "{} injected", states[0].injected);
+        for i in 0..p.len() {
+            for j in i + 1..p.len() {
+                let reach = 0.5 * (p.diameter[i] + p.diameter[j]);
+                assert!((p.pos[j] - p.pos[i]).length() >= reach, "{i} and {j} overlap");
+            }
+        }
     }
 
     #[test]

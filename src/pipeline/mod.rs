@@ -72,7 +72,8 @@ pub struct Setup {
     pub impact_location: ImpactLocation,
     /// Whether particles collide with each other (off: they pass through each other).
     pub pair_collisions: bool,
-    /// Verlet skin as a fraction of the largest diameter.
+    /// Verlet skin as a fraction of the largest diameter of each size level (diameters within a
+    /// factor 2; `contact::Neighbours`).
     pub skin_fraction: f64,
     /// Injectors (stage 7).
     pub injectors: Vec<Injector>,

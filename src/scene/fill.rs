@@ -5,12 +5,12 @@ use super::error::{Invalid, check};
 use super::ranges::{DIAMETER, LENGTH, SPEED};
 use super::room::{Room, box_points, probe};
 use super::schema::{SceneFile, Vec3Spec};
+use crate::contact::detect::PlacedSpheres;
 use crate::particles::{ParticleKind, Particles};
 use crate::walls::{Surface, Wall};
-use glam::{DVec3, IVec3};
+use glam::DVec3;
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
-use std::collections::HashMap;
 
 /// Most particles a scene may create, so that a typo in a spacing cannot exhaust memory.
 const MAX_PARTICLES: usize = 50_000_000;
@@ -107,7 +107,7 @@ pub(super) fn add_particles(
             ));
         }
         origins.push((p.len(), format!("random_fill[{i}]")));
-        place_random(p, walls, kind, d, (lo, hi), v, s.count as usize, seed).map_err(|placed| {
+        place_random(p, walls, kind, d, (lo, hi), v, s.count as usize, seed).map(|_tests| ()).map_err(|placed| {
             if placed > 0 {
                 return Invalid::new(
                     k("count"),
@@ -192,10 +192,12 @@ fn region(kmin: &str, kmax: &str, min: Vec3Spec, max: Vec3Spec) -> Result<(DVec3
 }
 
 /// Random non-overlapping centres in `[lo, hi]` (already shrunk by the radius), clear of the
-/// walls and of the particles placed before. Rejection sampling with a hash grid; `Err(placed)`
-/// when the region is too full: after `1000 × count` draws in all, or as soon as it is clear
-/// that the fill cannot finish — a fill asked for 50 % of its region used to draw its whole
-/// budget, 10⁸ draws for 10⁵ particles, before failing. Three early stops:
+/// walls and of the particles placed before. Rejection sampling, the particles placed before
+/// binned by size ([`PlacedSpheres`]: a grid sized by the largest particle would make every
+/// fine look at thousands of others once one large bead is in the scene). Returns the overlap
+/// tests made (a measure of the work, for tests); `Err(placed)` when the region is too full:
+/// after `1000 × count` draws in all, or as soon as it is clear that the fill cannot finish —
+/// a fill asked for 50 % of its region used to draw its whole budget, 10⁸ draws for 10⁵ particles, before failing. Three early stops:
 ///
 /// - no first particle in 1000 draws: no room for one;
 /// - the chance that a draw lands clear only falls as the fill goes on, so the rate of the
@@ -216,16 +218,13 @@ fn place_random(
     v: DVec3,
     count: usize,
     seed: u64,
-) -> Result<(), usize> {
-    let cell = p.diameter.iter().copied().fold(d, f64::max);
-    let key = |x: DVec3| (x / cell).floor().as_ivec3();
-    let mut grid: HashMap<IVec3, Vec<usize>> = HashMap::new();
+) -> Result<u64, usize> {
+    let mut placed_before = PlacedSpheres::new(p.diameter.iter().copied().fold(d, f64::min));
     for i in 0..p.len() {
-        grid.entry(key(p.pos[i])).or_default().push(i);
+        placed_before.insert(p.pos[i], 0.5 * p.diameter[i], i as u32);
     }
     let mut rng = ChaCha8Rng::seed_from_u64(seed);
-    let mut placed = 0;
-    let mut attempts = 0usize;
+    let (mut placed, mut attempts, mut tests) = (0, 0usize, 0u64);
     let budget = 1000 * count.max(1);
     // The draw counts at the last 64 placements, oldest first; the rate of the first 64.
     let mut recent: std::collections::VecDeque<usize> = std::collections::VecDeque::with_capacity(64);
@@ -252,24 +251,17 @@ fn place_random(
             rng.random_range(lo.y..=hi.y),
             rng.random_range(lo.z..=hi.z),
         );
-        let c = key(x);
         let clear_of_walls = walls.iter().all(|w| w.shape.gap(x, 0.5 * d).gap >= 0.0);
         let clear = clear_of_walls
-            && (-1..=1).all(|dz| {
-                (-1..=1).all(|dy| {
-                    (-1..=1).all(|dx| {
-                        // Wrapping: a cell index saturates for a diameter of 1e-308 in a
-                        // metre-sized region, and its neighbour must not overflow (a panic).
-                        grid.get(&c.wrapping_add(IVec3::new(dx, dy, dz))).is_none_or(|list| {
-                            list.iter().all(|&j| (p.pos[j] - x).length() >= 0.5 * (p.diameter[j] + d))
-                        })
-                    })
-                })
+            && placed_before.all_clear(x, 0.5 * d, |j| {
+                tests += 1;
+                let j = j as usize;
+                (p.pos[j] - x).length() >= 0.5 * (p.diameter[j] + d)
             });
         if clear {
             let id = p.len() as u32;
             let i = p.push(id, kind, d, x, v);
-            grid.entry(c).or_default().push(i);
+            placed_before.insert(x, 0.5 * d, i as u32);
             placed += 1;
             if recent.len() == 64 {
                 recent.pop_front();
@@ -280,7 +272,7 @@ fn place_random(
             }
         }
     }
-    Ok(())
+    Ok(tests)
 }
 
 /// The scene key that created particle `i` (`particles[2].position`, `lattice[0]`, …).
@@ -302,4 +294,26 @@ pub(super) fn describe(origins: &Origins, i: usize) -> String {
 fn origin(origins: &Origins, i: usize) -> Option<(usize, &str)> {
     let group = origins.partition_point(|(first, _)| *first <= i);
     origins.get(group.wrapping_sub(1)).map(|(first, key)| (*first, key.as_str()))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn random_fill_of_fines_around_one_large_bead_tests_each_fine_against_a_few_others() {
+        // One 10 mm bead in the middle of a 20 mm cube, then 20,000 fines of 100 µm around it.
+        let mut p = Particles::default();
+        p.push(0, 0, 1e-2, DVec3::ZERO, DVec3::ZERO);
+        let (d, count) = (1e-4, 20_000);
+        let region = (DVec3::splat(-0.01 + 0.5 * d), DVec3::splat(0.01 - 0.5 * d));
+        let tests = place_random(&mut p, &[], 0, d, region, DVec3::ZERO, count, 3).unwrap();
+        assert_eq!(p.len(), count + 1);
+        for i in 1..p.len() {
+            assert!((p.pos[i] - p.pos[0]).length() >= 0.5 * (1e-2 + d), "fine {i} inside the large bead");
+        }
+        // About one test per draw against the large bead, and the rare fine nearby; with cells
+        // sized by the large bead every fine was tested against the ~10⁴ fines placed near it.
+        assert!(tests < 2 * count as u64, "{tests} overlap tests for {count} fines");
+    }
 }
