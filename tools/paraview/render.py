@@ -159,18 +159,22 @@ def main():
     wall_display.AmbientColor = [0.6, 0.6, 0.65]
     wall_display.Opacity = 0.25
 
-    view.ResetCamera()
-    camera = view.GetActiveCamera()
-    camera.Elevation(20)
-    camera.Azimuth(30)
-    view.ResetCamera()
-    camera.Zoom(1.2)
+    # Gravity is along −z: z up, looking down on the particles from a corner, framing them (a
+    # tall container would otherwise leave them small).
+    glyphs = fetched(spheres, time)
+    b = glyphs.GetBounds() if glyphs.GetNumberOfPoints() else wall_data.GetBounds()
+    center = [0.5 * (b[0] + b[1]), 0.5 * (b[2] + b[3]), 0.5 * (b[4] + b[5])]
+    size = max(b[1] - b[0], b[3] - b[2], b[5] - b[4], 1e-6)
+    direction = [1.0, -1.6, 1.1]
+    norm = sum(c * c for c in direction) ** 0.5
+    view.CameraFocalPoint = center
+    view.CameraPosition = [center[i] + 2.2 * size * direction[i] / norm for i in range(3)]
+    view.CameraViewUp = [0.0, 0.0, 1.0]
+    view.CameraViewAngle = 30.0
     Render(view)
     SaveScreenshot(png, view, ImageResolution=[1200, 900])
     if not os.path.isfile(png) or os.path.getsize(png) < 10000:
         fail("no picture at " + png)
-    # A glyph per particle, each the sphere of its radius.
-    glyphs = fetched(spheres, time)
     print("ParaView: rendered %s (%d glyph points for %d particles)" % (png, glyphs.GetNumberOfPoints(), len(frames[time])))
 
 
