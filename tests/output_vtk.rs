@@ -296,11 +296,17 @@ fn check_left(out: &Path, stem: &str) -> Vec<(String, String)> {
 #[test]
 fn a_stopped_or_killed_run_leaves_a_whole_pvd_up_to_its_last_frame() {
     let dir = tempfile::tempdir().unwrap();
-    let scene = Path::new("tests/scenes/pour_200.toml");
+    // Far longer than the test waits: the signal always comes mid-run.
+    let scene = scene_with(
+        "tests/scenes/pour_200.toml",
+        "pour_200.toml",
+        dir.path(),
+        &[("duration", "3600.0"), ("output_interval", "0.002")],
+    );
     let spawn = |out: &PathBuf| {
         wetbounce()
             .arg("run")
-            .arg(scene)
+            .arg(&scene)
             .args(["--formats", "vtk,csv", "--quiet", "--threads", "1", "--out"])
             .arg(out)
             .stdout(Stdio::piped())
@@ -320,7 +326,7 @@ fn a_stopped_or_killed_run_leaves_a_whole_pvd_up_to_its_last_frame() {
     let done = wait_bounded(child, Duration::from_secs(60));
     assert_eq!(done.status.code(), Some(143), "{}", String::from_utf8_lossy(&done.stderr));
     let n = check_run(&out, "pour_200");
-    assert!((3..101).contains(&n), "{n} frames");
+    assert!(n >= 4, "{n} frames: three and the last, at the stop");
 
     // SIGKILL: nothing is closed, yet the .pvd is whole and names only whole frames.
     let out = dir.path().join("kill");
