@@ -6,7 +6,7 @@
 #
 # Needs ParaView's pvbatch with its Python modules, and an X server to render into: Debian's
 # `paraview` is built for X only (pvbatch --force-offscreen-rendering aborts: no EGL or OSMesa),
-# so the script starts a virtual one (Xvfb) when DISPLAY is unset. On Debian or Ubuntu, as root,
+# so the script runs it in a virtual one (xvfb-run) when DISPLAY is unset. On Debian or Ubuntu, as root,
 # it installs what is missing itself: paraview, python3-paraview, xvfb (about 220 MB to download,
 # 1.3 GB on disk). CI does not run this: tests/output_vtk.rs checks the files with vtkio.
 set -euo pipefail
@@ -20,7 +20,7 @@ png=docs/figures/paraview_$scene.png
 missing=()
 command -v pvbatch > /dev/null || missing+=(paraview)
 [ -d /usr/lib/python3/dist-packages/paraview ] || command -v pvpython > /dev/null || missing+=(python3-paraview)
-[ -n "${DISPLAY:-}" ] || command -v Xvfb > /dev/null || missing+=(xvfb)
+[ -n "${DISPLAY:-}" ] || command -v xvfb-run > /dev/null || missing+=(xvfb)
 if [ ${#missing[@]} -gt 0 ]; then
     if [ "$(id -u)" = 0 ] && command -v apt-get > /dev/null; then
         echo "installing ${missing[*]}"
@@ -37,17 +37,11 @@ rm -rf "$out"
 target/release/wetbounce run "scenes/$scene.toml" --formats vtk,csv --quiet --out "$out"
 du -sh "$out"/"$scene"_vtk "$out/$scene.pvd" "$out/${scene}_walls.vtp" "$out/trajectories.csv" | sed 's/^/size /'
 
-xvfb_pid=
-if [ -z "${DISPLAY:-}" ]; then
-    # A free display number; 24-bit colour for the picture.
-    n=90
-    while [ -e "/tmp/.X11-unix/X$n" ]; do n=$((n + 1)); done
-    Xvfb ":$n" -screen 0 1600x1200x24 -nolisten tcp > /dev/null 2>&1 &
-    xvfb_pid=$!
-    export DISPLAY=":$n"
-    for _ in $(seq 50); do [ -e "/tmp/.X11-unix/X$n" ] && break; sleep 0.1; done
+if [ -n "${DISPLAY:-}" ]; then
+    pvbatch tools/paraview/render.py "$out" "$scene" "$png" $time_arg
+else
+    # A virtual X server on a free display number (-a), 24-bit colour, larger than the picture:
+    # a window that does not fit the screen fails with "bad X server connection".
+    xvfb-run -a -s "-screen 0 1600x1200x24 -nolisten tcp" \
+        pvbatch tools/paraview/render.py "$out" "$scene" "$png" $time_arg
 fi
-status=0
-pvbatch tools/paraview/render.py "$out" "$scene" "$png" $time_arg || status=$?
-[ -z "$xvfb_pid" ] || kill "$xvfb_pid"
-exit $status
