@@ -19,9 +19,9 @@
 //! ParaView's own writers use), through `vtkio`. Positions and every real array are Float64: the
 //! numbers are the CSV's and the MCAP's bit for bit.
 //!
-//! Flushing: a frame's `.vtp` is written and flushed whole, then the `.pvd` is extended — its
-//! new entry and the closing tags in one write, over the closing tags of the frame before — and
-//! flushed. So after every frame the `.pvd` is a complete document naming only whole files, and
+//! Flushing: a frame's `.vtp` is written and flushed whole, then the `.pvd` is extended — room
+//! for the entry taken first, then its new entry and the closing tags in one write, over the
+//! closing tags of the frame before — and flushed. So after every frame the `.pvd` is a complete document naming only whole files, and
 //! a run killed outright (SIGKILL) leaves one that ParaView opens, up to its last frame.
 
 use super::file::OutputFile;
@@ -124,13 +124,21 @@ impl VtkSink {
         &self.walls_path
     }
 
-    /// Extends the `.pvd` by `entry` (whole lines), keeping it closed.
+    /// Extends the `.pvd` by `entry` (whole lines), keeping it closed. The file first grows by
+    /// the entry's length in newlines after the closing tags — whitespace after the document,
+    /// which leaves it valid if the disk fills in the middle of that write — and only then are
+    /// the closing tags overwritten by the entry and themselves, in the room already taken.
     fn append_to_pvd(&mut self, entry: &str) -> Result<(), OutputError> {
+        let end = self.tail_at + PVD_TAIL.len() as u64;
+        let room = vec![b'\n'; entry.len()];
         let text = format!("{entry}{PVD_TAIL}");
-        self.pvd
-            .seek(SeekFrom::Start(self.tail_at))
-            .and_then(|_| self.pvd.write_all(text.as_bytes()))
-            .and_then(|()| self.pvd.flush())
+        let pvd = &mut self.pvd;
+        pvd.seek(SeekFrom::Start(end))
+            .and_then(|_| pvd.write_all(&room))
+            .and_then(|()| pvd.flush())
+            .and_then(|()| pvd.seek(SeekFrom::Start(self.tail_at)))
+            .and_then(|_| pvd.write_all(text.as_bytes()))
+            .and_then(|()| pvd.flush())
             .map_err(|e| OutputError::write(&self.pvd_path, e))?;
         self.tail_at += entry.len() as u64;
         Ok(())
