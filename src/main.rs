@@ -7,6 +7,7 @@ use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 use wetbounce::output::{
     EventCsv, McapOptions, McapSink, OutputError, Progress, RunSummary, Sink, Statistics, TrajectoryCsv,
+    VtkSink,
 };
 use wetbounce::run::{RunFailed, RunReport, StopSignals, run};
 use wetbounce::scene::{LoadOptions, Scene, kind_reports};
@@ -28,6 +29,9 @@ enum Format {
     Csv,
     /// DIR/<scene>.rrd: rerun's native recording (needs the `rerun` cargo feature).
     Rrd,
+    /// DIR/<scene>.pvd (its frames in DIR/<scene>_vtk/), DIR/<scene>_walls.vtp and
+    /// DIR/events.csv: for ParaView.
+    Vtk,
 }
 
 /// The formats written when `--formats` is not given: the MCAP, and the rerun recording when
@@ -47,7 +51,7 @@ struct RunArgs {
     /// Worker threads [default: all cores]. Results do not depend on it.
     #[arg(long, value_parser = clap::value_parser!(u16).range(1..))]
     threads: Option<u16>,
-    /// Files to write, comma-separated: mcap, csv, rrd [default: mcap, and rrd in a build with
+    /// Files to write, comma-separated: mcap, csv, rrd, vtk [default: mcap, and rrd in a build with
     /// the `rerun` feature].
     #[arg(long, value_delimiter = ',', num_args = 1..)]
     formats: Option<Vec<Format>>,
@@ -237,9 +241,19 @@ fn create_sinks(
             written.push(file);
         }
         if formats.contains(&Format::Csv) {
-            let (t, e) = (out.join("trajectories.csv"), out.join("events.csv"));
+            let t = out.join("trajectories.csv");
             sinks.push(Box::new(TrajectoryCsv::create(&t)?));
             written.push(t);
+        }
+        if formats.contains(&Format::Vtk) {
+            let vtk = VtkSink::create(out, stem)?;
+            written.push(vtk.pvd_path().to_path_buf());
+            written.push(vtk.walls_path().to_path_buf());
+            sinks.push(Box::new(vtk));
+        }
+        // The events are one table for both: ParaView opens events.csv as a table it can plot.
+        if formats.contains(&Format::Csv) || formats.contains(&Format::Vtk) {
+            let e = out.join("events.csv");
             sinks.push(Box::new(EventCsv::create(&e)?));
             written.push(e);
         }

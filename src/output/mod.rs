@@ -4,6 +4,7 @@
 //! - [`EventCsv`]: `events.csv`, one row per contact;
 //! - [`Statistics`]: counts and means for the end-of-run summary;
 //! - [`McapSink`]: `<scene>.mcap` for Foxglove and rerun (`/particles`, `/walls`, `/scene`, `/events`);
+//! - [`VtkSink`]: `<scene>.pvd` and its `.vtp` frames, and `<scene>_walls.vtp`, for ParaView;
 //! - [`RerunSink`] (feature `rerun`): `<scene>.rrd`, rerun's native recording;
 //! - [`Progress`]: the progress bar on standard error.
 //!
@@ -20,6 +21,7 @@ mod progress;
 pub mod rerun;
 mod statistics;
 mod summary;
+pub mod vtk;
 
 pub use csv_files::{EventCsv, TrajectoryCsv};
 pub use mcap::{McapOptions, McapSink};
@@ -28,6 +30,7 @@ pub use progress::Progress;
 pub use rerun::RerunSink;
 pub use statistics::Statistics;
 pub use summary::RunSummary;
+pub use vtk::VtkSink;
 
 use crate::contact::ContactEvent;
 use crate::pipeline::{LostParticle, Simulation};
