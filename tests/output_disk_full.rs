@@ -6,7 +6,6 @@
 mod outputs_common;
 
 use outputs_common::*;
-use std::os::unix::process::CommandExt;
 use std::path::Path;
 use std::process::{Command, Output};
 
@@ -91,28 +90,6 @@ fn each_output_file_on_a_full_disk_is_named_and_the_others_are_finished() {
             assert!(!whole("summary.json"), "{failing}: no run, no summary");
         }
     }
-}
-
-/// Runs `wetbounce run SCENE` into `out` with every file it writes limited to `bytes`, and
-/// SIGXFSZ ignored, so that a write past the limit fails with EFBIG ("File too large") as a
-/// write to a full disk fails with ENOSPC: a disk that fills in the middle of a run, without
-/// root.
-fn run_with_file_limit(scene: &Path, out: &Path, formats: &str, bytes: u64) -> Output {
-    let mut cmd = wetbounce();
-    cmd.arg("run").arg(scene).args(["--formats", formats, "--quiet", "--threads", "1", "--out"]).arg(out);
-    // SAFETY: between fork and exec the closure calls only setrlimit and signal, which are
-    // async-signal-safe, and allocates nothing.
-    unsafe {
-        cmd.pre_exec(move || {
-            let limit = libc::rlimit { rlim_cur: bytes, rlim_max: bytes };
-            if libc::setrlimit(libc::RLIMIT_FSIZE, &limit) != 0 {
-                return Err(std::io::Error::last_os_error());
-            }
-            libc::signal(libc::SIGXFSZ, libc::SIG_IGN);
-            Ok(())
-        });
-    }
-    cmd.output().unwrap()
 }
 
 /// Multiples of the output interval strictly before `t`: the frames a file cut at `t` holds.

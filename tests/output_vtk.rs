@@ -378,28 +378,12 @@ fn a_full_disk_names_the_vtk_file_and_leaves_the_frames_before() {
 /// before the closing tags are overwritten.
 #[test]
 fn a_pvd_that_cannot_grow_stays_a_whole_document() {
-    use std::os::unix::process::CommandExt;
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("o");
     // Frames of toluene_drop are about 2 KB, its .pvd grows by 88 bytes a frame: the .pvd
     // reaches the limit first, after about 110 frames.
     let bytes: u64 = 10_000;
-    let mut cmd = wetbounce();
-    cmd.args(["run", "scenes/toluene_drop.toml", "--formats", "vtk", "--quiet", "--threads", "1", "--out"])
-        .arg(&out);
-    // SAFETY: between fork and exec the closure calls only setrlimit and signal, which are
-    // async-signal-safe, and allocates nothing.
-    unsafe {
-        cmd.pre_exec(move || {
-            let limit = libc::rlimit { rlim_cur: bytes, rlim_max: bytes };
-            if libc::setrlimit(libc::RLIMIT_FSIZE, &limit) != 0 {
-                return Err(std::io::Error::last_os_error());
-            }
-            libc::signal(libc::SIGXFSZ, libc::SIG_IGN);
-            Ok(())
-        });
-    }
-    let run = cmd.output().unwrap();
+    let run = run_with_file_limit(Path::new("scenes/toluene_drop.toml"), &out, "vtk", bytes);
     let stderr = String::from_utf8_lossy(&run.stderr);
     assert_eq!(run.status.code(), Some(1), "{stderr}");
     let pvd = out.join("toluene_drop.pvd");

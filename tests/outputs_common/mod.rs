@@ -1,5 +1,5 @@
 //! Helpers of the tests that stop, kill or starve a run and then read what it left
-//! (`output_interrupt.rs`, `output_disk_full.rs`).
+//! (`output_interrupt.rs`, `output_disk_full.rs`, `output_vtk.rs`).
 #![allow(dead_code)]
 
 use std::path::{Path, PathBuf};
@@ -155,4 +155,27 @@ pub fn read_summary(dir: &Path) -> serde_json::Value {
 /// MCAP log time of a time written in the CSV.
 pub fn log_time(t: &str) -> u64 {
     (t.parse::<f64>().unwrap() * 1e9).round() as u64
+}
+
+/// Runs `wetbounce run SCENE` (a path relative to the repository) into `out` with every file it
+/// writes limited to `bytes`, and SIGXFSZ ignored, so that a write past the limit fails with
+/// EFBIG ("File too large") as a write to a full disk fails with ENOSPC: a disk that fills in
+/// the middle of a run, without root.
+pub fn run_with_file_limit(scene: &Path, out: &Path, formats: &str, bytes: u64) -> Output {
+    use std::os::unix::process::CommandExt;
+    let mut cmd = wetbounce();
+    cmd.arg("run").arg(scene).args(["--formats", formats, "--quiet", "--threads", "1", "--out"]).arg(out);
+    // SAFETY: between fork and exec the closure calls only setrlimit and signal, which are
+    // async-signal-safe, and allocates nothing.
+    unsafe {
+        cmd.pre_exec(move || {
+            let limit = libc::rlimit { rlim_cur: bytes, rlim_max: bytes };
+            if libc::setrlimit(libc::RLIMIT_FSIZE, &limit) != 0 {
+                return Err(std::io::Error::last_os_error());
+            }
+            libc::signal(libc::SIGXFSZ, libc::SIG_IGN);
+            Ok(())
+        });
+    }
+    cmd.output().unwrap()
 }
