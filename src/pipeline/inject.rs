@@ -125,6 +125,16 @@ impl SizeDistribution {
         }
     }
 
+    /// The smallest diameter it can give (m).
+    pub fn min_diameter(&self) -> f64 {
+        match *self {
+            SizeDistribution::Fixed(d) => d,
+            SizeDistribution::Uniform { min, .. }
+            | SizeDistribution::Normal { min, .. }
+            | SizeDistribution::LogNormal { min, .. } => min,
+        }
+    }
+
     fn sample(&self, rng: &mut ChaCha8Rng) -> f64 {
         let truncated = |rng: &mut ChaCha8Rng, min: f64, max: f64, draw: &dyn Fn(f64) -> f64| {
             let mut d = f64::NAN;

@@ -165,10 +165,12 @@ pub(super) fn build(
     let mut particles = Particles::default();
     let origins = fill::add_particles(&file, &kinds, &walls, &mut particles)?;
     check_clear_of_walls(&origins, &particles, &walls)?;
-    if physics_has_lubrication {
-        check_roughness_below_radius(&particles, &kinds, &walls)?;
-    }
     let injectors = flux::build_injectors(&file.injectors, &kinds, duration)?;
+    if physics_has_lubrication {
+        let injected = injectors.iter().map(|j| (j.kind, j.diameter.min_diameter()));
+        let sizes = (0..particles.len()).map(|i| (particles.kind[i], particles.diameter[i]));
+        check_roughness_below_radius(sizes.chain(injected), &kinds, &walls)?;
+    }
     let outlets = flux::build_outlets(&file.outlets, &walls)?;
 
     let integrator = sim.integrator.unwrap_or(IntegratorKind::Rk2);
@@ -440,17 +442,17 @@ fn check_roughness(
     Ok(())
 }
 
-/// The contact gap (the kind's roughness plus the roughest wall's) must be below each
-/// particle's radius.
+/// The contact gap (the kind's roughness plus the roughest wall's) must be below the radius of
+/// each particle, `(kind, diameter)`, initial or the smallest an injector can give.
 fn check_roughness_below_radius(
-    p: &Particles,
+    sizes: impl Iterator<Item = (u16, f64)>,
     kinds: &[ParticleKind],
     walls: &[Wall],
 ) -> Result<(), Invalid> {
     let wall_max = walls.iter().map(|w| w.material.roughness).fold(0.0, f64::max);
-    for i in 0..p.len() {
-        let k = p.kind[i] as usize;
-        let (h_r, r) = (kinds[k].roughness + wall_max, 0.5 * p.diameter[i]);
+    for (k, d) in sizes {
+        let k = k as usize;
+        let (h_r, r) = (kinds[k].roughness + wall_max, 0.5 * d);
         if h_r >= r {
             return Err(Invalid::new(
                 format!("kinds[{k}].roughness"),
