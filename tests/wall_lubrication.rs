@@ -229,3 +229,39 @@ proptest! {
         }
     }
 }
+
+/// The hold still applies to drops (PHYSICS.md §5.3, §8): L06's 2.75 mm toluene drop rising
+/// to the top wall, with wall lubrication instead of L06's ε, is held for `t_c` (L06 eq. 5) at
+/// its first impact, then released at `e V_imp` away from the wall and leaves through the film.
+#[test]
+fn toluene_drop_with_lubrication_is_held_for_t_c_then_leaves_at_e_of_its_impact_speed() {
+    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/toluene_drop.toml");
+    let text = std::fs::read_to_string(&path).unwrap();
+    let text = text
+        .replace("beta = 35.0\nst_critical = 10.0\n", "")
+        .replace("contact_time = {}\n", "contact_time = {}\nwall_lubrication = {}\n")
+        .replace("restitution_max = 0.91", "restitution_max = 0.91\nroughness = 1e-6");
+    let mut sim = wetbounce::Scene::from_str(&text, &path).unwrap_or_else(|e| panic!("{e}")).simulation();
+    let mut events = Vec::new();
+    while events.is_empty() {
+        sim.step(1e-4);
+        events.append(&mut sim.record.events);
+    }
+    let first = events[0];
+    assert_eq!(first.outcome, Outcome::Held, "{first:?}");
+    assert_eq!(first.eps, 0.91);
+    assert!(first.contact_time > 0.015 && first.contact_time < 0.03, "t_c = {}", first.contact_time);
+    // Held: it stays at the wall for t_c.
+    sim.advance_to(first.time + 0.9 * first.contact_time);
+    assert_eq!(sim.world.particles.state[0], State::Held);
+    // Released at e V_imp downwards (away from the top wall), then slowed by the film.
+    sim.advance_to(first.time + first.contact_time + 2e-4);
+    assert_eq!(sim.world.particles.state[0], State::Free);
+    let vz = sim.world.particles.vel[0].z;
+    assert!(
+        vz < 0.0 && -vz <= 0.91 * first.normal_speed,
+        "v_z = {vz}, released at most {}",
+        0.91 * first.normal_speed
+    );
+    common::assert_clear_of_walls(&sim);
+}
