@@ -68,6 +68,10 @@ fn stokes_approach_slows_as_the_integral_of_lambda_perp_predicts_and_touches_at_
         / 3.0;
     let expected = simpson / v_t;
     let err = (first.time - expected).abs() / expected;
+    println!(
+        "contact after {} s, ∫ λ⊥ dh / V_t = {expected} s: relative error {err:.2e}; impact speed {} m/s",
+        first.time, first.normal_speed
+    );
     assert!(
         err < 5e-3,
         "contact at {} s, quasi-steady Stokes {} s: relative error {err:.2e}",
@@ -75,10 +79,10 @@ fn stokes_approach_slows_as_the_integral_of_lambda_perp_predicts_and_touches_at_
         expected
     );
     // Contact is at the roughness: the bead's surface is on the floor (its geometric gap, the
-    // lubrication gap less h_r, is 0) and its impact speed is the film's, V_t h_r / a.
-    let v_contact = v_t * H_R / a;
+    // lubrication gap less h_r, is 0) and its impact speed is the film's, V_t / λ⊥(h_r/a).
+    let v_contact = v_t / brenner_normal_exact(H_R / a);
     assert!(
-        (first.normal_speed - v_contact).abs() < 0.05 * v_contact,
+        (first.normal_speed - v_contact).abs() < 1e-2 * v_contact,
         "impact speed {} m/s, quasi-steady {} m/s",
         first.normal_speed,
         v_contact
@@ -189,7 +193,7 @@ fn through_the_floor(sim: &Simulation) -> bool {
 }
 
 proptest! {
-    #![proptest_config(Config { cases: 24, failure_persistence: None, ..Config::default() })]
+    #![proptest_config(Config { cases: 128, failure_persistence: None, ..Config::default() })]
 
     /// No particle goes through a wall with lubrication on, whatever its size, density, speed
     /// and the time step; and the state stays finite.
