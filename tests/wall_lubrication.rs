@@ -269,3 +269,40 @@ fn toluene_drop_with_lubrication_is_held_for_t_c_then_leaves_at_e_of_its_impact_
     );
     common::assert_clear_of_walls(&sim);
 }
+
+/// In a corner only the nearest wall's film acts (PHYSICS.md §8): beads thrown into the corner
+/// of a 10 mm box, along the diagonal and just off it, fast and slow, stay inside, touch, and
+/// never gain energy at a contact, with a small and a large step.
+#[test]
+fn beads_thrown_into_a_box_corner_with_lubrication_stay_inside_and_never_gain_energy() {
+    let walls = "[[walls]]\nname = \"box\"\ntype = \"box\"\nmin = [0.0, 0.0, 0.0]\nmax = [0.01, 0.01, 0.01]\ninside = true\n";
+    for dt in [1e-4, 2e-3] {
+        let starts: Vec<(DVec3, DVec3)> = [(1.0, 1.0, 1.0), (1.0, 1.0001, 0.9999), (1.0, 1.0, 0.0)]
+            .iter()
+            .zip([0.8, 3.0, 0.3])
+            .map(|(&(a, b, c), s)| (DVec3::splat(0.005), -s * DVec3::new(a, b, c).normalize()))
+            .enumerate()
+            .map(|(k, (x, v))| (x + DVec3::new(0.0, 0.0, (k as f64 - 1.0) * 2.5e-3), v))
+            .collect();
+        let mut sim = lubricated()
+            .diameter(1e-3)
+            .dt(dt)
+            .integrator("exponential")
+            .walls(walls)
+            .particles(&starts)
+            .scene()
+            .simulation();
+        let mut contacts = 0;
+        while sim.world.time < 0.5 {
+            let next = (sim.world.time + 10.0 * dt).min(0.5);
+            sim.advance_to(next);
+            for e in sim.record.events.drain(..) {
+                assert!(e.energy_not_gained(), "dt {dt}: {e:?}");
+                contacts += 1;
+            }
+            common::assert_clear_of_walls(&sim);
+            assert!(sim.record.lost.is_empty());
+        }
+        assert!(contacts >= 3, "dt {dt}: only {contacts} contacts");
+    }
+}
