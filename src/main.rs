@@ -406,14 +406,26 @@ fn check_scene(path: &Path, options: LoadOptions) -> Result<String, String> {
     if scene.setup.impact_location != wetbounce::contact::ImpactLocation::InStep {
         let _ = writeln!(text, "  impact location: {}", scene.setup.impact_location.name());
     }
-    let _ = writeln!(
-        text,
-        "  bounce: beta = {}, St_c = {}, e_t = {}, hold at contact: {}",
-        scene.setup.rule.beta,
-        scene.setup.rule.st_critical,
-        scene.setup.rule.tangential_restitution,
-        scene.setup.rule.hold_at_contact
-    );
+    let rule = &scene.setup.rule;
+    match rule.e_rule {
+        None => {
+            let _ = writeln!(
+                text,
+                "  bounce: beta = {}, St_c = {}, e_t = {}, hold at contact: {}",
+                rule.beta, rule.st_critical, rule.tangential_restitution, rule.hold_at_contact
+            );
+        }
+        // With wall lubrication (PHYSICS.md §8): e of the impact speed, no beta, no St_c.
+        Some(e) => {
+            let e = e.map_or("restitution_max".to_string(), |e| e.to_string());
+            let _ = writeln!(
+                text,
+                "  bounce: rule e (e = {e}, of the speed at impact, rebound if e St >= ln 2), e_t = {}, \
+                 hold at contact: {}",
+                rule.tangential_restitution, rule.hold_at_contact
+            );
+        }
+    }
     let reports = kind_reports(&scene);
     // The kind column fits the longest name; a number too wide for its column is printed in
     // short scientific form (St ~ 4e7 for a bead in air), so the columns stay aligned.

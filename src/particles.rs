@@ -30,6 +30,9 @@ pub struct ParticleKind {
     pub restitution_max: f64,
     /// Solid or drop.
     pub material: Material,
+    /// Surface roughness `h_r` (m) **[ext]**: with the `wall_lubrication` effect, contact with
+    /// a wall is made at this gap plus the wall's roughness (PHYSICS.md §8); 0 when not given.
+    pub roughness: f64,
 }
 
 /// Where a particle is in the bounce rule (PHYSICS.md §5).

@@ -13,19 +13,22 @@ mod buoyancy;
 mod contact_time;
 mod drag;
 mod gravity;
+mod wall_lubrication;
 
 pub use added_mass::AddedMass;
 pub use buoyancy::Buoyancy;
 pub use contact_time::ContactTime;
 pub use drag::{Drag, DragLaw, DragLawKind, NoDrag, SchillerNaumann, Stokes};
 pub use gravity::Gravity;
+pub use wall_lubrication::{RANGE as LUBRICATION_RANGE, WallExcess, WallLubrication, taper, wall_excess};
 
 use crate::fluid::Fluid;
 use crate::particles::ParticleKind;
 use glam::DVec3;
 
 /// Names accepted in a scene's `[effects]` table, in the order the docs list them.
-pub const EFFECT_NAMES: &[&str] = &["gravity", "buoyancy", "drag", "added_mass", "contact_time"];
+pub const EFFECT_NAMES: &[&str] =
+    &["gravity", "buoyancy", "drag", "added_mass", "contact_time", "wall_lubrication"];
 
 /// One physical effect: adds its part to the scene's [`Physics`].
 pub trait Effect: std::fmt::Debug + Send + Sync {
@@ -65,6 +68,7 @@ pub fn build_effect(name: &str, table: toml::Value) -> Result<Box<dyn Effect>, E
         "drag" => Box::new(parse::<Drag>(table)?),
         "added_mass" => Box::new(parse::<AddedMass>(table)?.validated()?),
         "contact_time" => Box::new(parse::<ContactTime>(table)?),
+        "wall_lubrication" => Box::new(parse::<WallLubrication>(table)?),
         other => {
             return Err(EffectError::new(
                 "",
@@ -95,6 +99,9 @@ pub struct Physics {
     pub added_mass_coefficient: f64,
     /// With the contact-time effect: particles are held at the wall for `t_c` (PHYSICS.md §5.3).
     pub hold_at_contact: bool,
+    /// With the wall-lubrication effect **[ext]**: the drag and added mass near a wall
+    /// (PHYSICS.md §8), evaluated by the flight kernel for particles near a wall only.
+    pub wall_lubrication: bool,
     /// Names of the effects, in the order they were applied.
     pub effect_names: Vec<&'static str>,
 }
@@ -110,6 +117,7 @@ impl Physics {
             drag: None,
             added_mass_coefficient: 0.0,
             hold_at_contact: false,
+            wall_lubrication: false,
             effect_names: Vec::new(),
         };
         for effect in effects {

@@ -11,6 +11,7 @@
 //!
 //! This room knows no contact rule: the contact room above it asks it where a path goes.
 
+mod lubricated;
 mod motion;
 
 pub use motion::{Motion, Mover, WithMotion, dispatch};
@@ -19,7 +20,7 @@ use crate::effects::Physics;
 use crate::fluid::Fluid;
 use crate::integrate::{ForceField, Tangential};
 use crate::numeric::lanes::{DVec3x4, F64x4, LANES, each};
-use crate::particles::State;
+use crate::particles::{ParticleKind, State};
 use crate::walls::{Surface, Wall, push_out};
 use glam::DVec3;
 
@@ -39,14 +40,29 @@ pub struct Kernel<'a, M> {
     kind_accel: Vec<DVec3>,
     kind_drag_rate: Vec<f64>,
     re_rate: f64,
+    /// With the wall-lubrication effect only.
+    lubrication: Option<lubricated::Lubrication>,
 }
 
 impl<'a, M: Motion> Kernel<'a, M> {
     /// The kernel of a step: `motion` from [`dispatch`], the effects' `physics` per kind.
-    pub fn new(motion: &'a M, physics: &Physics, fluid: &Fluid, walls: &'a [Wall]) -> Self {
+    pub fn new(
+        motion: &'a M,
+        physics: &Physics,
+        fluid: &Fluid,
+        kinds: &[ParticleKind],
+        walls: &'a [Wall],
+    ) -> Self {
         let n = physics.kinds.len();
         let mu = fluid.viscosity;
+        let lubrication =
+            (physics.wall_lubrication && physics.drag.is_some()).then(|| lubricated::Lubrication {
+                kind_roughness: kinds.iter().map(|k| k.roughness).collect(),
+                kind_inertia: physics.kinds.iter().map(|t| t.inertia_density).collect(),
+                added_density: if physics.has("added_mass") { fluid.density } else { 0.0 },
+            });
         Kernel {
+            lubrication,
             motion,
             walls,
             kind_accel: (0..n).map(|k| physics.body_acceleration(k)).collect(),
@@ -69,15 +85,26 @@ impl<'a, M: Motion> Kernel<'a, M> {
         self.motion.field(accel, drag_rate / (d * d), d * self.re_rate)
     }
 
-    /// Moves one segment on by `h` (s) under `field`, for a particle of radius `r` (m): free
-    /// flight, sliding along its wall (resting), or nothing (held at a wall).
+    /// Whether the scene has the wall-lubrication effect (with drag): every particle then goes
+    /// through [`Kernel::fly`], which looks for a wall near it.
+    pub fn lubricated(&self) -> bool {
+        self.lubrication.is_some()
+    }
+
+    /// Moves one segment on by `h` (s) under `field`, for a particle of kind `k` and radius `r`
+    /// (m): free flight, sliding along its wall (resting), or nothing (held at a wall). With
+    /// wall lubrication, a free particle near a wall flies by [`lubricated`]'s sub-steps.
     #[inline]
-    pub fn fly(&self, field: &M::Field<DVec3>, r: f64, seg: &Segment, h: f64) -> Flight {
+    pub fn fly(&self, field: &M::Field<DVec3>, (k, r): (usize, f64), seg: &Segment, h: f64) -> Flight {
         match seg.state {
             State::Held => Flight { x: seg.x, v: seg.v, state: State::Held },
             // A pair-held particle flies; the lasting-contact stage keeps the pair together.
             State::Free | State::PairHeld => {
-                let (x, v) = self.motion.advance(field, seg.x, seg.v, h);
+                let near = match &self.lubrication {
+                    None => None,
+                    Some(lub) => self.lubricated_flight(lub, field, (k, r), (seg.x, seg.v), h),
+                };
+                let (x, v) = near.unwrap_or_else(|| self.motion.advance(field, seg.x, seg.v, h));
                 Flight { x, v, state: seg.state }
             }
             State::Resting => {
@@ -105,7 +132,7 @@ impl<'a, M: Motion> Kernel<'a, M> {
     /// `t1`, starting at `(x, v)` in `state` on `wall`. A particle held at a wall stays.
     #[inline(always)]
     pub fn free_flight(&self, start: Segment, (k, d): (usize, f64), t1: f64) -> Flight {
-        self.fly(&self.field(k, d), 0.5 * d, &start, t1 - start.t)
+        self.fly(&self.field(k, d), (k, 0.5 * d), &start, t1 - start.t)
     }
 
     /// The net acceleration (m/s²) of a particle of kind `k` and diameter `d` at `x` moving at

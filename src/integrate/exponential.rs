@@ -18,7 +18,7 @@ pub struct Exponential;
 
 /// `φ1(z) = (eᶻ − 1)/z` and `φ2(z) = (eᶻ − 1 − z)/z²`, accurate to round-off for all `z ≤ 0`.
 #[inline]
-fn phi12(z: f64) -> (f64, f64) {
+pub(crate) fn phi12(z: f64) -> (f64, f64) {
     if z.abs() < 0.1 { phi12_series(z) } else { phi12_closed(z) }
 }
 

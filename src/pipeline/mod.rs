@@ -279,7 +279,7 @@ impl WithMotion for StepWith<'_> {
     fn run<M: Motion>(self, motion: &M) {
         let StepWith { world, setup, record, scratch, h } = self;
         let (t0, t1) = (world.time, world.time + h);
-        let flight = Kernel::new(motion, &setup.physics, &setup.fluid, &setup.walls);
+        let flight = Kernel::new(motion, &setup.physics, &setup.fluid, &setup.kinds, &setup.walls);
         let ctx = contact::Ctx::new(
             &flight,
             &setup.physics,

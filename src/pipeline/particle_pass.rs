@@ -68,7 +68,7 @@ pub(crate) fn run<M: Motion>(
                 s1: &mut s1[..len],
                 w1: &mut w1[..len],
             };
-            if cols.state.iter().all(|&s| s == State::Free) {
+            if !flight.lubricated() && cols.state.iter().all(|&s| s == State::Free) {
                 free_chunk(flight, cols, t0, t1)
             } else {
                 mixed_chunk(flight, cols, t0, t1)

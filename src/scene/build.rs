@@ -5,7 +5,8 @@ use super::error::check::{self, forbid, only, required};
 use super::error::fmt::{num, shorten_long_numbers, vec3};
 use super::error::{Invalid, SceneError};
 use super::ranges::{
-    self, DENSITY, FLUID_DENSITY, GRAVITY, LENGTH, SPEED, SURFACE_TENSION, TIME, VISCOSITY, YOUNGS_MODULUS,
+    self, DENSITY, FLUID_DENSITY, GRAVITY, LENGTH, ROUGHNESS, SPEED, SURFACE_TENSION, TIME, VISCOSITY,
+    YOUNGS_MODULUS,
 };
 use super::run_length::{TooLong, run_length};
 use super::schema::*;
@@ -117,9 +118,16 @@ pub(super) fn build(
         effects.push(effect);
     }
     let physics = Physics::build(&fluid, &kinds, &effects);
+    let physics_has_lubrication = physics.wall_lubrication;
     if file.effects.contains_key("added_mass") {
         // The effect checks the sign itself; the range is the scene's (ranges.rs).
         ranges::ADDED_MASS.check("effects.added_mass.coefficient", physics.added_mass_coefficient)?;
+    }
+    if physics.wall_lubrication && physics.drag.is_none() {
+        return Err(Invalid::new(
+            "effects.wall_lubrication",
+            "needs the drag effect (it raises the drag near walls), got a scene without drag",
+        ));
     }
     if physics.drag.is_some() && fluid.viscosity <= 0.0 {
         return Err(Invalid::new(
@@ -139,7 +147,9 @@ pub(super) fn build(
             1.0,
         )?,
         hold_at_contact: physics.hold_at_contact,
+        e_rule: e_rule(b, physics.wall_lubrication)?,
     };
+    check_roughness(&file, &kinds, &walls, physics.wall_lubrication)?;
     let has_solid = kinds.iter().any(|k| matches!(k.material, Material::Solid { .. }));
     if has_solid && rule.st_critical <= EQ4_POLE {
         return Err(Invalid::new(
@@ -157,6 +167,11 @@ pub(super) fn build(
     check_clear_of_walls(&origins, &particles, &walls)?;
     overlap::check_no_overlap(&origins, &particles)?;
     let injectors = flux::build_injectors(&file.injectors, &kinds, &walls, duration)?;
+    if physics_has_lubrication {
+        let injected = injectors.iter().map(|j| (j.kind, j.diameter.min_diameter()));
+        let sizes = (0..particles.len()).map(|i| (particles.kind[i], particles.diameter[i]));
+        check_roughness_below_radius(sizes.chain(injected), &kinds, &walls)?;
+    }
     let outlets = flux::build_outlets(&file.outlets, &walls)?;
 
     let integrator = sim.integrator.unwrap_or(IntegratorKind::Rk2);
@@ -304,6 +319,11 @@ fn build_kinds(specs: &[KindSpec]) -> Result<Vec<ParticleKind>, Invalid> {
             density: check::positive_in(&key("density"), density, &DENSITY)?,
             restitution_max: check::in_range(&key("restitution_max"), restitution_max, 0.0, 1.0)?,
             material,
+            roughness: spec
+                .roughness
+                .map(|v| check::positive_in(&key("roughness"), v, &ROUGHNESS))
+                .transpose()?
+                .unwrap_or(0.0),
         });
     }
     Ok(kinds)
@@ -356,6 +376,102 @@ fn round_down(x: f64) -> String {
 }
 
 /// A particle may start touching a wall (gap 0) but not overlapping or behind it.
+/// The bounce rule's restitution (PHYSICS.md §3): L06's `ε(St)` or, with wall lubrication,
+/// the `e` rule. Each without the other is refused: L06's `ε` already holds the fluid's losses
+/// near the wall that lubrication computes (they would be counted twice), and the `e` rule
+/// without lubrication has no St dependence at all.
+fn e_rule(b: &BounceSpec, lubrication: bool) -> Result<Option<Option<f64>>, Invalid> {
+    let rule = b.rule.unwrap_or(if lubrication { RuleSpec::E } else { RuleSpec::L06 });
+    match (rule, lubrication) {
+        (RuleSpec::E, false) => Err(Invalid::new(
+            "bounce.rule",
+            "\"e\" needs the wall_lubrication effect (without it the rebound would not depend on \
+             the Stokes number at all), got \"e\"",
+        )),
+        (RuleSpec::L06, true) => Err(Invalid::new(
+            "bounce.rule",
+            "must be \"e\" with the wall_lubrication effect (L06's exp(-beta/St) already holds the \
+             losses the lubrication computes: they would be counted twice), got \"l06\"",
+        )),
+        (RuleSpec::L06, false) => {
+            forbid("bounce.e", b.e.is_some(), "the \"l06\" rule (it is the \"e\" rule's restitution)")?;
+            Ok(None)
+        }
+        (RuleSpec::E, true) => Ok(Some(b.e.map(|e| check::in_range("bounce.e", e, 0.0, 1.0)).transpose()?)),
+    }
+}
+
+/// With wall lubrication, every particle kind and wall pair needs a contact gap `h_r > 0` (the
+/// sum of the two roughnesses); without it, a roughness has no use and is refused.
+fn check_roughness(
+    file: &SceneFile,
+    kinds: &[ParticleKind],
+    walls: &[Wall],
+    lubrication: bool,
+) -> Result<(), Invalid> {
+    if !lubrication {
+        let unused = |key: String, v: Option<f64>| match v {
+            Some(v) => Err(Invalid::new(
+                key,
+                format!(
+                    "is used only by the wall_lubrication effect, which the scene does not name, got {}",
+                    num(v)
+                ),
+            )),
+            None => Ok(()),
+        };
+        for (i, k) in file.kinds.iter().enumerate() {
+            unused(format!("kinds[{i}].roughness"), k.roughness)?;
+        }
+        for (i, w) in file.walls.iter().enumerate() {
+            unused(format!("walls[{i}].material.roughness"), w.material.roughness)?;
+        }
+        return Ok(());
+    }
+    for (i, k) in kinds.iter().enumerate() {
+        if let Some(w) = walls.iter().find(|w| k.roughness + w.material.roughness <= 0.0) {
+            return Err(Invalid::new(
+                format!("kinds[{i}].roughness"),
+                format!(
+                    "is needed with the wall_lubrication effect (contact is made at the particle's \
+                     roughness plus the wall's, and wall \"{}\" has none), got none",
+                    w.name
+                ),
+            ));
+        }
+    }
+    Ok(())
+}
+
+/// The contact gap (the kind's roughness plus the roughest wall's) must be below the radius of
+/// each particle, `(kind, diameter)`, initial or the smallest an injector can give.
+fn check_roughness_below_radius(
+    sizes: impl Iterator<Item = (u16, f64)>,
+    kinds: &[ParticleKind],
+    walls: &[Wall],
+) -> Result<(), Invalid> {
+    let wall_max = walls.iter().map(|w| w.material.roughness).fold(0.0, f64::max);
+    for (k, d) in sizes {
+        let k = k as usize;
+        let (h_r, r) = (kinds[k].roughness + wall_max, 0.5 * d);
+        if h_r >= r {
+            return Err(Invalid::new(
+                format!("kinds[{k}].roughness"),
+                format!(
+                    "must be below the radius of every particle of kind \"{}\" (with the roughest \
+                     wall's {} m added: {} m), but a particle has radius {} m; got {}",
+                    kinds[k].name,
+                    num(wall_max),
+                    num(h_r),
+                    num(r),
+                    num(kinds[k].roughness)
+                ),
+            ));
+        }
+    }
+    Ok(())
+}
+
 fn check_clear_of_walls(origins: &fill::Origins, p: &Particles, walls: &[Wall]) -> Result<(), Invalid> {
     for i in 0..p.len() {
         let r = 0.5 * p.diameter[i];

@@ -93,9 +93,15 @@ pub(crate) const MESH_SCALE: Range =
 pub(crate) const ADDED_MASS: Range =
     Range { quantity: "added-mass coefficients", unit: "", min: 0.0, max: 10.0, zero: None };
 
+/// Surface roughnesses of particles and walls (the gap at which contact is made with wall
+/// lubrication): from 0.1 nm (an atomic step) to 10 cm; it must also be below the radius of
+/// every particle of the kind (checked on its own).
+pub(crate) const ROUGHNESS: Range =
+    Range { quantity: "roughnesses", unit: "m", min: 1e-10, max: 0.1, zero: None };
+
 /// Every range, for the test that checks `docs/scene-format.md` lists them.
 #[cfg(test)]
-pub(crate) const ALL: [&Range; 15] = [
+pub(crate) const ALL: [&Range; 16] = [
     &DENSITY,
     &FLUID_DENSITY,
     &VISCOSITY,
@@ -111,6 +117,7 @@ pub(crate) const ALL: [&Range; 15] = [
     &TIME_OR_ZERO,
     &MESH_SCALE,
     &ADDED_MASS,
+    &ROUGHNESS,
 ];
 
 impl Range {

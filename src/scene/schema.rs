@@ -224,12 +224,31 @@ pub struct BounceSpec {
     pub st_critical: f64,
     #[serde(default = "one")]
     pub tangential_restitution: f64,
+    /// `"l06"` (ε from L06 eq. 2) or `"e"` (the dry restitution on the impact speed, with wall
+    /// lubrication); left out: `"e"` with the `wall_lubrication` effect, `"l06"` without.
+    pub rule: Option<RuleSpec>,
+    /// `e` of the `"e"` rule; left out: the particle's (or wall's) `restitution_max`.
+    pub e: Option<f64>,
 }
 
 impl Default for BounceSpec {
     fn default() -> Self {
-        BounceSpec { beta: default_beta(), st_critical: default_st_critical(), tangential_restitution: 1.0 }
+        BounceSpec {
+            beta: default_beta(),
+            st_critical: default_st_critical(),
+            tangential_restitution: 1.0,
+            rule: None,
+            e: None,
+        }
     }
+}
+
+/// `bounce.rule`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum RuleSpec {
+    L06,
+    E,
 }
 
 fn default_beta() -> f64 {
@@ -254,6 +273,8 @@ pub struct KindSpec {
     pub youngs_modulus: Option<f64>,
     pub poisson_ratio: Option<f64>,
     pub surface_tension: Option<f64>,
+    /// Surface roughness `h_r` (m), used by the `wall_lubrication` effect.
+    pub roughness: Option<f64>,
 }
 
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize)]
@@ -269,6 +290,8 @@ pub struct MaterialSpec {
     pub youngs_modulus: Option<f64>,
     pub poisson_ratio: Option<f64>,
     pub restitution_max: Option<f64>,
+    /// Surface roughness of the wall (m), used by the `wall_lubrication` effect.
+    pub roughness: Option<f64>,
 }
 
 /// One `[[walls]]` entry; `type` says which geometry keys it needs (checked in `build`).

@@ -6,7 +6,7 @@ use super::build::poisson;
 use super::error::Invalid;
 use super::error::check::{self, only, required};
 use super::error::fmt::{num, vec3};
-use super::ranges::{LENGTH, LENGTH_OR_ZERO, MESH_SCALE, YOUNGS_MODULUS};
+use super::ranges::{LENGTH, LENGTH_OR_ZERO, MESH_SCALE, ROUGHNESS, YOUNGS_MODULUS};
 use super::schema::{MaterialSpec, Vec3Spec, WallSpec, WallType};
 use crate::walls::{Cuboid, Cylinder, Plane, Shape, Wall, WallMaterial, annulus_mesh, load_mesh};
 use std::path::Path;
@@ -153,5 +153,10 @@ fn build_material(m: &MaterialSpec, key: &str) -> Result<WallMaterial, Invalid> 
             .restitution_max
             .map(|v| check::in_range(&k("restitution_max"), v, 0.0, 1.0))
             .transpose()?,
+        roughness: m
+            .roughness
+            .map(|v| check::positive_in(&k("roughness"), v, &ROUGHNESS))
+            .transpose()?
+            .unwrap_or(0.0),
     })
 }

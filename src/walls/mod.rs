@@ -36,6 +36,9 @@ pub struct WallMaterial {
     pub poisson_ratio: Option<f64>,
     /// `ε_max` of impacts on this wall, overriding the particle kind's.
     pub restitution_max: Option<f64>,
+    /// Surface roughness `h_r` of the wall (m) **[ext]**, added to the particle's with the
+    /// `wall_lubrication` effect (PHYSICS.md §8); 0 when not given.
+    pub roughness: f64,
 }
 
 /// A named static wall.

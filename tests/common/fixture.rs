@@ -35,6 +35,7 @@ pub struct BeadOnFloor {
     youngs_modulus: f64,
     poisson_ratio: f64,
     restitution_max: Option<f64>,
+    roughness: Option<f64>,
     walls: String,
     diameter: f64,
     particles: Vec<(DVec3, DVec3)>,
@@ -58,6 +59,7 @@ impl Default for BeadOnFloor {
             youngs_modulus: 6e10,
             poisson_ratio: 0.23,
             restitution_max: None,
+            roughness: None,
             walls: FLOOR.to_string(),
             diameter: 2e-3,
             particles: Vec::new(),
@@ -167,6 +169,12 @@ impl BeadOnFloor {
     }
 
     /// The walls: whole `[[walls]]` tables replacing [`FLOOR`] ("" for none).
+    /// The kind's `roughness` (m), for the wall-lubrication effect.
+    pub fn roughness(mut self, h_r: f64) -> Self {
+        self.roughness = Some(h_r);
+        self
+    }
+
     pub fn walls(mut self, tables: &str) -> Self {
         self.walls = tables.to_string();
         self
@@ -237,6 +245,9 @@ impl BeadOnFloor {
         );
         if let Some(eps) = self.restitution_max {
             t += &format!("restitution_max = {eps:?}\n");
+        }
+        if let Some(h_r) = self.roughness {
+            t += &format!("roughness = {h_r:?}\n");
         }
         t += &format!("\n{}\n", self.walls);
         for (x, v) in &self.particles {

@@ -65,14 +65,14 @@ impl<'a, M: Motion> Ctx<'a, M> {
 
     /// Position and velocity of `tr` at time `t` on its current segment.
     pub(crate) fn at(&self, tr: &Track<M>, t: f64) -> (DVec3, DVec3) {
-        let f = self.flight.fly(&tr.field, tr.r(), &tr.seg, t - tr.seg.t);
+        let f = self.flight.fly(&tr.field, (tr.k, tr.r()), &tr.seg, t - tr.seg.t);
         (f.x, f.v)
     }
 
     /// Starts `tr` on a new segment `seg` and flies it to the end of the step, `t1`.
     pub(crate) fn restart(&self, tr: &mut Track<M>, seg: Segment, t1: f64) {
         tr.seg = seg;
-        tr.end = self.flight.fly(&tr.field, tr.r(), &tr.seg, t1 - seg.t);
+        tr.end = self.flight.fly(&tr.field, (tr.k, tr.r()), &tr.seg, t1 - seg.t);
     }
 
     /// Inertia in the force balance (kg), ∞ for a particle held at a wall.

@@ -157,6 +157,7 @@ mod tests {
             density: 860.0,
             restitution_max: 0.91,
             material: Material::Drop { surface_tension: 0.026 },
+            roughness: 0.0,
         }
     }
 

@@ -20,13 +20,31 @@ pub struct BounceRule {
     pub tangential_restitution: f64,
     /// Hold rebounding particles at the wall for `t_c` (the contact-time effect).
     pub hold_at_contact: bool,
+    /// The `e` rule **[ext]** (PHYSICS.md §3, §8), with wall lubrication: the rebound is `e`
+    /// times the speed at impact, `e` the scene's `bounce.e` (`Some`) or the dry restitution
+    /// `ε_max` (`None`). `None` here: L06's `ε(St)`.
+    pub e_rule: Option<Option<f64>>,
 }
 
 impl Default for BounceRule {
     fn default() -> Self {
-        BounceRule { beta: 35.0, st_critical: 10.0, tangential_restitution: 1.0, hold_at_contact: false }
+        BounceRule {
+            beta: 35.0,
+            st_critical: 10.0,
+            tangential_restitution: 1.0,
+            hold_at_contact: false,
+            e_rule: None,
+        }
     }
 }
+
+/// Under the `e` rule, an impact rebounds only if `e St_imp ≥ ln 2`, `St_imp` the Stokes number
+/// of the impact speed. Leaving the wall at `V0` through the lubrication drag `6π μ a² V / h`
+/// alone, a particle stops at `h = h_r exp(St0)`, `St0` the Stokes number of `V0`: below
+/// `ln 2` the rebound would not lift it by its own roughness, and it rests instead (§5.2).
+/// This ends the endless sequence of ever smaller rebounds of a particle settling onto the wall;
+/// it is not L06's `St_c`, which the `e` rule does not use.
+pub const E_RULE_LEAST_REBOUND_ST: f64 = std::f64::consts::LN_2;
 
 /// What one impact on a wall gives.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -48,7 +66,9 @@ pub struct Impact {
 /// `material` with velocity `v` (m/s); `n` is the wall's unit normal towards the particle.
 ///
 /// `V∞ = −v·n` is the normal approach speed at contact: with no wall effect in the force
-/// balance it is the speed before the particle feels the wall (PHYSICS.md §2).
+/// balance it is the speed before the particle feels the wall (PHYSICS.md §2). With the `e`
+/// rule (wall lubrication) it is the speed at impact, already slowed by the lubrication, and
+/// `st` and `eps` in the result are of that speed (`eps = e`).
 pub fn wall_impact(
     kind: &ParticleKind,
     d: f64,
@@ -63,7 +83,14 @@ pub fn wall_impact(
     let tangential = v - vn * n;
     let st = stokes_number(kind.density, fluid.density, v_inf, d, fluid.viscosity);
     let eps_max = material.restitution_max.unwrap_or(kind.restitution_max);
-    match restitution(st, eps_max, rule.beta, rule.st_critical) {
+    let rebound = match rule.e_rule {
+        None => restitution(st, eps_max, rule.beta, rule.st_critical),
+        Some(e) => {
+            let e = e.unwrap_or(eps_max);
+            if e * st >= E_RULE_LEAST_REBOUND_ST { Restitution::Rebound(e) } else { Restitution::NoRebound }
+        }
+    };
+    match rebound {
         Restitution::NoRebound => {
             Impact { st, eps: 0.0, contact_time: 0.0, outcome: Outcome::Deposited, velocity: tangential }
         }

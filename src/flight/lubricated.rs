@@ -1,0 +1,155 @@
+//! **[ext]** Flight near a wall with the wall-lubrication effect (PHYSICS.md §8): the drag is
+//! anisotropic there (`λ⊥` normal to the wall, `λ∥` along it) and stiff (the normal relaxation
+//! time `τ/λ⊥` falls to `τ h/a`), so the scene's integrator, whose force is one scalar rate, is
+//! replaced for such particles by sub-steps of an exponential midpoint scheme written in the
+//! wall's frame: each component's linear drag is integrated exactly with its rate frozen over
+//! the sub-step (stable at any rate), and each sub-step changes the gap by at most
+//! [`GAP_FRACTION`] of itself, so the frozen factor is accurate however thin the film. Particles
+//! away from every wall never come here.
+
+use super::Kernel;
+use super::Motion;
+use crate::effects::{LUBRICATION_RANGE, wall_excess};
+use crate::integrate::{ForceField, phi12};
+use crate::walls::{Surface, Wall};
+use glam::DVec3;
+
+/// Largest change of the lubrication gap in one sub-step, as a fraction of the gap: the wall
+/// factors then change by at most about 10 % over a sub-step (`λ⊥ ∝ 1/h` near contact).
+pub const GAP_FRACTION: f64 = 0.1;
+
+/// At most this many sub-steps in one flight (a guard; a bead crossing the whole range down to
+/// a 1 µm film takes about 100).
+const MAX_SUBSTEPS: u32 = 100_000;
+
+/// What the kernel keeps for the effect, per particle kind.
+pub(super) struct Lubrication {
+    /// Each kind's roughness (m).
+    pub kind_roughness: Vec<f64>,
+    /// Each kind's inertia density far from walls, `ρp + C_M∞ ρ` (kg/m³).
+    pub kind_inertia: Vec<f64>,
+    /// `ρ` with the added-mass effect (the wall's image series raises the normal inertia by
+    /// `(C_M(h) − 1/2) ρ`), 0 without it (kg/m³).
+    pub added_density: f64,
+}
+
+/// The nearest wall seen through the lubrication: gap `h` (m, the surface gap plus both
+/// roughnesses, so `h = h_r` at contact) and its unit normal towards the particle.
+fn nearest(walls: &[Wall], x: DVec3, r: f64, kind_roughness: f64) -> Option<(f64, DVec3)> {
+    let mut best: Option<(f64, DVec3)> = None;
+    for w in walls {
+        let g = w.shape.gap(x, r);
+        let h = g.gap.max(0.0) + kind_roughness + w.material.roughness;
+        if best.is_none_or(|b| h < b.0) {
+            best = Some((h, g.normal));
+        }
+    }
+    best
+}
+
+/// The frozen-coefficient linear acceleration of one state, split along the wall normal `n`.
+struct Split {
+    /// Explicit normal acceleration (m/s²) and normal drag rate (1/s), fluid normal speed.
+    en: f64,
+    rate_n: f64,
+    un: f64,
+    /// Explicit tangential acceleration, tangential rate, fluid tangential velocity.
+    et: DVec3,
+    rate_t: f64,
+    ut: DVec3,
+}
+
+impl Split {
+    /// Exact solution of `v' = e + rate (u − v)` per component over `dt`, from `(x, v)`.
+    fn step(&self, n: DVec3, x: DVec3, v: DVec3, dt: f64) -> (DVec3, DVec3) {
+        let vn = v.dot(n);
+        let vt = v - vn * n;
+        let an = self.en + self.rate_n * (self.un - vn);
+        let at = self.et + (self.ut - vt) * self.rate_t;
+        let (p1n, p2n) = phi12(-self.rate_n * dt);
+        let (p1t, p2t) = phi12(-self.rate_t * dt);
+        let x1 = x + v * dt + n * (an * p2n * dt * dt) + at * (p2t * dt * dt);
+        let v1 = v + n * (an * p1n * dt) + at * (p1t * dt);
+        (x1, v1)
+    }
+}
+
+impl<M: Motion> Kernel<'_, M> {
+    /// The split force on a particle of kind `k`, radius `r`, at `(x, v)`, with lubrication gap
+    /// `h` along `n`. The Stokes part of the drag grows by the wall's excess, added to the law's
+    /// `f(Re)` (PHYSICS.md §8: `f(Re) + λ − 1`, the film's flow being viscous whatever `Re`).
+    fn split(
+        &self,
+        lub: &Lubrication,
+        field: &M::Field<DVec3>,
+        (k, r): (usize, f64),
+        (x, v): (DVec3, DVec3),
+        (h, n): (f64, DVec3),
+    ) -> Split {
+        let l = field.eval(x, v);
+        let ex = wall_excess(h / r);
+        let stokes_rate = self.kind_drag_rate[k] / (4.0 * r * r);
+        let i_inf = lub.kind_inertia[k];
+        let i_n = i_inf + lub.added_density * ex.added_mass;
+        let vn = v.dot(n);
+        // −½ (dm/dh) v_n² / m: the potential flow's energy as the normal added mass changes.
+        let image = -0.5 * lub.added_density * (ex.added_mass_slope / r) * vn * vn / i_n;
+        let en = l.explicit.dot(n) * (i_inf / i_n) + image;
+        let un = l.u.dot(n);
+        Split {
+            en,
+            rate_n: (l.inv_tau + stokes_rate * ex.normal) * (i_inf / i_n),
+            un,
+            et: l.explicit - l.explicit.dot(n) * n,
+            rate_t: l.inv_tau + stokes_rate * ex.parallel,
+            ut: l.u - un * n,
+        }
+    }
+
+    /// Free flight of a particle of kind `k` and radius `r` over `h` (s) from `(x, v)` when a
+    /// wall is within reach of it in the step; `None` when none is (the scene's integrator then
+    /// moves it).
+    pub(super) fn lubricated_flight(
+        &self,
+        lub: &Lubrication,
+        field: &M::Field<DVec3>,
+        (k, r): (usize, f64),
+        (x, v): (DVec3, DVec3),
+        h: f64,
+    ) -> Option<(DVec3, DVec3)> {
+        let rough = lub.kind_roughness[k];
+        let (h0, _) = nearest(self.walls, x, r, rough)?;
+        let accel = field.eval(x, v).total(v).length();
+        if h0 - LUBRICATION_RANGE * r >= (2.0 * v.length() + accel * h) * h {
+            return None;
+        }
+        let (mut x, mut v, mut t) = (x, v, 0.0);
+        let mut count = 0;
+        while t < h && count < MAX_SUBSTEPS {
+            count += 1;
+            let rem = h - t;
+            let (g, n) = nearest(self.walls, x, r, rough).unwrap_or((f64::INFINITY, DVec3::Z));
+            let gap_at = |y: DVec3| (g + (y - x).dot(n)).max(0.0);
+            let s0 = self.split(lub, field, (k, r), (x, v), (g, n));
+            let vn = v.dot(n).abs();
+            let mut dt = if vn * rem > GAP_FRACTION * g { GAP_FRACTION * g / vn } else { rem };
+            // Shrink until the gap changes by at most GAP_FRACTION (the force may speed the
+            // particle up within the sub-step); the last resort is the guard's share of h.
+            let floor = h / MAX_SUBSTEPS as f64;
+            let (x1, v1) = loop {
+                let (xm, vm) = s0.step(n, x, v, 0.5 * dt);
+                let sm = self.split(lub, field, (k, r), (xm, vm), (gap_at(xm).max(1e-3 * g), n));
+                let (x1, v1) = sm.step(n, x, v, dt);
+                if (x1 - x).dot(n).abs() <= GAP_FRACTION * g || dt <= floor {
+                    break (x1, v1);
+                }
+                dt = (0.5 * dt).max(floor);
+            };
+            (x, v, t) = (x1, v1, t + dt);
+            if dt >= rem {
+                break;
+            }
+        }
+        Some((x, v))
+    }
+}
