@@ -138,8 +138,8 @@ pub(super) fn build(
 
     let b = &file.bounce;
     let rule = BounceRule {
-        beta: check::non_negative("bounce.beta", b.beta)?,
-        st_critical: check::non_negative("bounce.st_critical", b.st_critical)?,
+        beta: check::non_negative("bounce.beta", b.beta.unwrap_or(DEFAULT_BETA))?,
+        st_critical: check::non_negative("bounce.st_critical", b.st_critical.unwrap_or(DEFAULT_ST_CRITICAL))?,
         tangential_restitution: check::in_range(
             "bounce.tangential_restitution",
             b.tangential_restitution,
@@ -397,7 +397,15 @@ fn e_rule(b: &BounceSpec, lubrication: bool) -> Result<Option<Option<f64>>, Inva
             forbid("bounce.e", b.e.is_some(), "the \"l06\" rule (it is the \"e\" rule's restitution)")?;
             Ok(None)
         }
-        (RuleSpec::E, true) => Ok(Some(b.e.map(|e| check::in_range("bounce.e", e, 0.0, 1.0)).transpose()?)),
+        (RuleSpec::E, true) => {
+            // The e rule has no exp(-beta/St) and no St_c: a value given for them would be
+            // silently unused.
+            let e_rule = "the \"e\" rule (it has no exp(-beta/St) and no St_c: its rebound depends on St \
+                          through the lubrication)";
+            forbid("bounce.beta", b.beta.is_some(), e_rule)?;
+            forbid("bounce.st_critical", b.st_critical.is_some(), e_rule)?;
+            Ok(Some(b.e.map(|e| check::in_range("bounce.e", e, 0.0, 1.0)).transpose()?))
+        }
     }
 }
 

@@ -218,10 +218,10 @@ pub enum FlowType {
 #[derive(Debug, Clone, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct BounceSpec {
-    #[serde(default = "default_beta")]
-    pub beta: f64,
-    #[serde(default = "default_st_critical")]
-    pub st_critical: f64,
+    /// β of L06 eq. 2; left out: [`DEFAULT_BETA`]. Only for the `"l06"` rule.
+    pub beta: Option<f64>,
+    /// `St_c`; left out: [`DEFAULT_ST_CRITICAL`]. Only for the `"l06"` rule.
+    pub st_critical: Option<f64>,
     #[serde(default = "one")]
     pub tangential_restitution: f64,
     /// `"l06"` (ε from L06 eq. 2) or `"e"` (the dry restitution on the impact speed, with wall
@@ -233,13 +233,7 @@ pub struct BounceSpec {
 
 impl Default for BounceSpec {
     fn default() -> Self {
-        BounceSpec {
-            beta: default_beta(),
-            st_critical: default_st_critical(),
-            tangential_restitution: 1.0,
-            rule: None,
-            e: None,
-        }
+        BounceSpec { beta: None, st_critical: None, tangential_restitution: 1.0, rule: None, e: None }
     }
 }
 
@@ -251,12 +245,10 @@ pub enum RuleSpec {
     E,
 }
 
-fn default_beta() -> f64 {
-    35.0
-}
-fn default_st_critical() -> f64 {
-    10.0
-}
+/// β of L06 eq. 2 when the scene does not give it.
+pub const DEFAULT_BETA: f64 = 35.0;
+/// The critical Stokes number of L06 when the scene does not give it.
+pub const DEFAULT_ST_CRITICAL: f64 = 10.0;
 fn one() -> f64 {
     1.0
 }
