@@ -118,17 +118,22 @@ impl<M: Motion> Kernel<'_, M> {
         h: f64,
     ) -> Option<(DVec3, DVec3)> {
         let rough = lub.kind_roughness[k];
-        let (h0, _) = nearest(self.walls, x, r, rough)?;
+        let start = nearest(self.walls, x, r, rough)?;
         let accel = field.eval(x, v).total(v).length();
-        if h0 - LUBRICATION_RANGE * r >= (2.0 * v.length() + accel * h) * h {
+        if start.0 - LUBRICATION_RANGE * r >= (2.0 * v.length() + accel * h) * h {
             return None;
         }
         let (mut x, mut v, mut t) = (x, v, 0.0);
         let mut count = 0;
         while t < h && count < MAX_SUBSTEPS {
+            // The first sub-step starts where the nearest wall was just found.
+            let (g, n) = if count == 0 {
+                start
+            } else {
+                nearest(self.walls, x, r, rough).unwrap_or((f64::INFINITY, DVec3::Z))
+            };
             count += 1;
             let rem = h - t;
-            let (g, n) = nearest(self.walls, x, r, rough).unwrap_or((f64::INFINITY, DVec3::Z));
             let gap_at = |y: DVec3| (g + (y - x).dot(n)).max(0.0);
             let s0 = self.split(lub, field, (k, r), (x, v), (g, n));
             let vn = v.dot(n).abs();

@@ -116,24 +116,24 @@ pub enum SizeDistribution {
 }
 
 impl SizeDistribution {
+    /// The smallest and the largest diameter it can give (m).
+    fn bounds(&self) -> (f64, f64) {
+        match *self {
+            SizeDistribution::Fixed(d) => (d, d),
+            SizeDistribution::Uniform { min, max }
+            | SizeDistribution::Normal { min, max, .. }
+            | SizeDistribution::LogNormal { min, max, .. } => (min, max),
+        }
+    }
+
     /// The largest diameter it can give (m).
     pub fn max_diameter(&self) -> f64 {
-        match *self {
-            SizeDistribution::Fixed(d) => d,
-            SizeDistribution::Uniform { max, .. }
-            | SizeDistribution::Normal { max, .. }
-            | SizeDistribution::LogNormal { max, .. } => max,
-        }
+        self.bounds().1
     }
 
     /// The smallest diameter it can give (m).
     pub fn min_diameter(&self) -> f64 {
-        match *self {
-            SizeDistribution::Fixed(d) => d,
-            SizeDistribution::Uniform { min, .. }
-            | SizeDistribution::Normal { min, .. }
-            | SizeDistribution::LogNormal { min, .. } => min,
-        }
+        self.bounds().0
     }
 
     fn sample(&self, rng: &mut ChaCha8Rng) -> f64 {
