@@ -85,8 +85,8 @@ impl<'a, M: Motion> Kernel<'a, M> {
         self.motion.field(accel, drag_rate / (d * d), d * self.re_rate)
     }
 
-    /// Whether the scene has the wall-lubrication effect (with drag): every particle then goes
-    /// through [`Kernel::fly`], which looks for a wall near it.
+    /// Whether the scene has the wall-lubrication effect (with drag): a particle that may come
+    /// within its range of a wall then goes through [`Kernel::fly`], which looks for the wall.
     pub fn lubricated(&self) -> bool {
         self.lubrication.is_some()
     }

@@ -3,6 +3,7 @@
 //! [`contact::release_at_wall`], [`Kernel::free_flight`] and [`contact::touches_wall`].
 
 use crate::contact;
+use crate::effects::LUBRICATION_RANGE;
 use crate::flight::{Kernel, Motion, Segment};
 use crate::numeric::lanes::{DVec3x4, F64x4, LANES};
 use crate::particles::{NO_WALL, Next, Particles, State};
@@ -68,7 +69,7 @@ pub(crate) fn run<M: Motion>(
                 s1: &mut s1[..len],
                 w1: &mut w1[..len],
             };
-            if !flight.lubricated() && cols.state.iter().all(|&s| s == State::Free) {
+            if cols.state.iter().all(|&s| s == State::Free) {
                 free_chunk(flight, cols, t0, t1)
             } else {
                 mixed_chunk(flight, cols, t0, t1)
@@ -112,7 +113,7 @@ struct Columns<'a> {
 /// adaptor with a closure, no `<[T; N]>::map`): a call out of the AVX2 copy runs without AVX2
 /// and passes its values through memory.
 #[multiversion(targets("x86_64+avx2"))]
-fn free_chunk<M: Motion>(flight: &Kernel<M>, c: Columns, t0: f64, t1: f64) -> Chunk {
+fn free_chunk<M: Motion>(flight: &Kernel<M>, mut c: Columns, t0: f64, t1: f64) -> Chunk {
     // Free at the start of the step: released, if ever, before t0.
     debug_assert!(c.release_time.iter().all(|&t| t <= t0));
     // 2. alone first, by lane groups of four particles where that pays (`crate::numeric::lanes`), the
@@ -139,6 +140,12 @@ fn free_chunk<M: Motion>(flight: &Kernel<M>, c: Columns, t0: f64, t1: f64) -> Ch
         let field = flight.field(c.kind[j] as usize, c.diameter[j]);
         (c.x1[j], c.v1[j]) = flight.motion.advance(&field, c.pos[j], c.vel[j], h);
     }
+    // With wall lubrication, the few whose move comes within its range of a wall fly again,
+    // through the kernel, which looks for the wall (`Kernel::fly`); the rest keep the lane
+    // group's flight, which is what the kernel would give them too.
+    if flight.lubricated() {
+        refly_near_walls(flight, &mut c, t0, t1);
+    }
     c.s1.fill(State::Free);
     c.w1.fill(NO_WALL);
     // 3. (walls), and what the step needs to know of the moves.
@@ -163,6 +170,26 @@ fn free_chunk<M: Motion>(flight: &Kernel<M>, c: Columns, t0: f64, t1: f64) -> Ch
     }
     out.suspect = !sum.is_finite();
     out
+}
+
+/// Stage 2 again for the free particles of a chunk whose move (straight, from the start to the
+/// free flight's end) comes within the lubrication range of a wall, with the sphere grown by
+/// that range: [`Kernel::free_flight`] flies them by the lubricated sub-steps when a wall is
+/// within reach, and otherwise as the lane groups did. The range is ten radii, where the wall's
+/// terms have tapered to zero with their slope, so a path that bends back into the range within
+/// one step (by less than `|a| h²/8`) meets a wall term of the order of that bend squared.
+/// Outside [`free_chunk`]'s inlined loops: it runs only in scenes with the effect.
+#[inline(never)]
+fn refly_near_walls<M: Motion>(flight: &Kernel<M>, c: &mut Columns, t0: f64, t1: f64) {
+    for j in 0..c.pos.len() {
+        let (x, d) = (c.pos[j], c.diameter[j]);
+        let reach = 0.5 * d * (1.0 + LUBRICATION_RANGE);
+        if flight.walls.iter().any(|w| w.shape.may_touch(x, c.x1[j], reach)) {
+            let start = Segment { t: t0, x, v: c.vel[j], state: State::Free, wall: NO_WALL };
+            let f = flight.free_flight(start, (c.kind[j] as usize, d), t1);
+            (c.x1[j], c.v1[j]) = (f.x, f.v);
+        }
+    }
 }
 
 /// Any chunk: stages 1, 2 and 3 (walls) for particles in every state.
