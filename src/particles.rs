@@ -109,6 +109,12 @@ pub struct Particles {
     /// initial particles, the injection time for injected ones. An outlet's residence time is
     /// the removal time minus this.
     pub born: Vec<f64>,
+    /// With the history effect **[ext]** only (empty otherwise): each particle's memory of its
+    /// past accelerations, [`Particles::memory_modes`] vectors per particle (m/s each: the
+    /// mode `F_k = ∫ e^{−λ_k (t − s)} dw/ds ds` of the slip `w`; PHYSICS.md §10).
+    pub memory: Vec<DVec3>,
+    /// Modes per particle in [`Particles::memory`]; 0 without the history effect.
+    pub memory_modes: usize,
 }
 
 impl Particles {
@@ -134,6 +140,8 @@ impl Particles {
         self.release_time.push(f64::NEG_INFINITY);
         self.release_vel.push(DVec3::ZERO);
         self.born.push(0.0);
+        // A new particle remembers nothing: as if it had moved at its velocity forever.
+        self.memory.resize(self.memory.len() + self.memory_modes, DVec3::ZERO);
         self.len() - 1
     }
 
@@ -153,6 +161,15 @@ impl Particles {
         column(&mut self.release_time, keep);
         column(&mut self.release_vel, keep);
         column(&mut self.born, keep);
+        if self.memory_modes > 0 {
+            let modes = self.memory_modes;
+            let mut i = 0;
+            self.memory.retain(|_| {
+                let k = keep[i / modes];
+                i += 1;
+                k
+            });
+        }
     }
 }
 
@@ -172,6 +189,9 @@ pub struct Next {
     pub wall: Vec<u32>,
     /// Holds at a wall that began in the step (few: kept as a list, not as full columns).
     pub holds: Vec<WallHold>,
+    /// With the history effect: each particle's memory at the end of the step (written by
+    /// the particle pass and, for the particles whose path a contact restarted, by stage 4).
+    pub memory: Vec<DVec3>,
 }
 
 /// A hold at a wall that began in the step: when particle `index` is released, and at what
@@ -206,6 +226,17 @@ impl Particles {
         std::mem::swap(&mut self.vel, &mut next.vel);
         std::mem::swap(&mut self.state, &mut next.state);
         std::mem::swap(&mut self.wall, &mut next.wall);
+        if self.memory_modes > 0 {
+            std::mem::swap(&mut self.memory, &mut next.memory);
+            // A particle held at a wall or resting on one remembers nothing: its flight after
+            // the release starts a new memory (PHYSICS.md §10, "impact, hold and release").
+            let modes = self.memory_modes;
+            for (s, m) in self.state.iter().zip(self.memory.chunks_exact_mut(modes)) {
+                if matches!(s, State::Held | State::Resting) {
+                    m.fill(DVec3::ZERO);
+                }
+            }
+        }
         for h in next.holds.drain(..) {
             self.release_time[h.index as usize] = h.release_time;
             self.release_vel[h.index as usize] = h.release_vel;

@@ -29,9 +29,9 @@ pub use restitution::{Restitution, restitution};
 pub use stokes::{pair_stokes_number, relaxation_time, stokes_number};
 pub use terminal::{TerminalVelocity, terminal_velocity};
 pub use wall_hindrance::{
-    ADDED_MASS_CONTACT, NORMAL_GAP_CONSTANT, PARALLEL_GAP_CONSTANT, added_mass_normal, added_mass_normal_and_slope,
-    added_mass_normal_exact, brenner_normal_exact, faxen_parallel, oneill_parallel_exact, wall_factor_normal,
-    wall_factor_parallel,
+    ADDED_MASS_CONTACT, NORMAL_GAP_CONSTANT, PARALLEL_GAP_CONSTANT, added_mass_normal,
+    added_mass_normal_and_slope, added_mass_normal_exact, brenner_normal_exact, faxen_parallel,
+    oneill_parallel_exact, wall_factor_normal, wall_factor_parallel,
 };
 
 /// Added-mass coefficient of a sphere far from walls, `C_M∞ = 1/2` (L06 §2).

@@ -279,7 +279,18 @@ impl WithMotion for StepWith<'_> {
     fn run<M: Motion>(self, motion: &M) {
         let StepWith { world, setup, record, scratch, h } = self;
         let (t0, t1) = (world.time, world.time + h);
-        let flight = Kernel::new(motion, &setup.physics, &setup.fluid, &setup.kinds, &setup.walls);
+        // With the history effect, the memory at the start of the step is read by the flight
+        // kernel while the pass writes the memory at its end into `scratch.next` (commit swaps
+        // them, like the other columns). Empty without the effect.
+        let start_memory = std::mem::take(&mut world.particles.memory);
+        let flight = Kernel::new(motion, &setup.physics, &setup.fluid, &setup.kinds, &setup.walls)
+            .remembering(
+                &setup.physics,
+                &setup.fluid,
+                &start_memory,
+                setup.physics.history.as_ref(),
+                t1 - t0,
+            );
         let ctx = contact::Ctx::new(
             &flight,
             &setup.physics,
@@ -338,5 +349,9 @@ impl WithMotion for StepWith<'_> {
         // 8. Emit: the step's events wait in `record.events` for the sinks.
         world.time = t1;
         world.steps += 1;
+        // The memory at the start of the step becomes the next step's scratch.
+        drop(ctx);
+        drop(flight);
+        scratch.next.memory = start_memory;
     }
 }

@@ -14,7 +14,7 @@ use super::stiffness::stiffest_drag;
 use super::{LoadOptions, Scene};
 use super::{fill, flux, overlap, walls};
 use crate::contact::BounceRule;
-use crate::effects::{Physics, build_effect};
+use crate::effects::{MemoryKernel, Physics, SHORTEST_LAG, build_effect};
 use crate::fluid::{Flow, Fluid, Poiseuille};
 use crate::integrate::IntegratorKind;
 use crate::particles::{Material, ParticleKind, Particles};
@@ -129,6 +129,13 @@ pub(super) fn build(
             "needs the drag effect (it raises the drag near walls), got a scene without drag",
         ));
     }
+    if physics.history.is_some() && physics.wall_lubrication {
+        return Err(Invalid::new(
+            "effects.history",
+            "cannot be combined with wall_lubrication yet (the sub-stepped flight near a wall does \
+             not carry the memory); name one of the two",
+        ));
+    }
     if physics.drag.is_some() && fluid.viscosity <= 0.0 {
         return Err(Invalid::new(
             "fluid.viscosity",
@@ -197,6 +204,13 @@ pub(super) fn build(
     }
     // After `dt = "auto"` has chosen: its step is far inside the limit, and this says so.
     check_stable_step(&scene.setup, &scene.particles)?;
+    if let Some(kernel) = &scene.setup.physics.history {
+        check_history_window(kernel, scene.setup.dt)?;
+        // One memory per particle, allocated only here (PHYSICS.md §10).
+        let p = &mut scene.particles;
+        p.memory_modes = kernel.modes();
+        p.memory = vec![glam::DVec3::ZERO; p.len() * kernel.modes()];
+    }
     if !options.allow_long_run {
         run_length(duration, output_interval, scene.setup.dt).map_err(|e| {
             let key = match e {
@@ -207,6 +221,32 @@ pub(super) fn build(
         })?;
     }
     Ok(scene)
+}
+
+/// The history window must hold at least one step (a memory shorter than Δt would forget the
+/// step being taken), and its shortest resolved lag ([`SHORTEST_LAG`] of it) must stay below
+/// Δt/1000, where the lumped short-lag term is exact: a window of at most 10⁷ Δt.
+fn check_history_window(kernel: &MemoryKernel, dt: f64) -> Result<(), Invalid> {
+    let key = "effects.history.window";
+    if kernel.window < dt {
+        return Err(Invalid::new(
+            key,
+            format!("must be at least the time step dt = {} s, got {} s", num(dt), num(kernel.window)),
+        ));
+    }
+    let longest = 1e-3 * dt / SHORTEST_LAG;
+    if kernel.window > longest {
+        return Err(Invalid::new(
+            key,
+            format!(
+                "must be at most 1e7 dt = {} s (the memory resolves lags down to 1e-10 of the window, \
+                 which must stay below dt/1000), got {} s",
+                num(longest),
+                num(kernel.window)
+            ),
+        ));
+    }
+    Ok(())
 }
 
 fn build_fluid(f: &FluidSpec) -> Result<Fluid, Invalid> {

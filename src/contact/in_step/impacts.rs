@@ -5,7 +5,7 @@ use super::super::Ctx;
 use super::track::{TOUCHING, Track};
 use crate::contact::event::kinetic_energy;
 use crate::contact::{ContactEvent, LastingContact, Other, Outcome, PairBody, pair_impact, wall_impact};
-use crate::flight::{Motion, Segment};
+use crate::flight::{Motion, NO_MEMORY, Segment};
 use crate::particles::{NO_WALL, Particles, State};
 use crate::walls::{Surface, contact_part};
 use glam::DVec3;
@@ -46,16 +46,23 @@ impl<'a, M: Motion> Ctx<'a, M> {
             events.last()
         );
         let w = w as u32;
+        // Every path after a contact starts with an empty memory (PHYSICS.md §10).
+        let memory = NO_MEMORY;
         let seg = match impact.outcome {
-            Outcome::Bounced => Segment { t, x: xc, v: impact.velocity, state: State::Free, wall: NO_WALL },
-            Outcome::Deposited => Segment { t, x: xc, v: impact.velocity, state: State::Resting, wall: w },
+            Outcome::Bounced => {
+                Segment { t, x: xc, v: impact.velocity, state: State::Free, wall: NO_WALL, memory }
+            }
+            Outcome::Deposited => {
+                Segment { t, x: xc, v: impact.velocity, state: State::Resting, wall: w, memory }
+            }
             Outcome::Held => {
                 let t_release = t + impact.contact_time;
                 tr.release = Some((t_release, impact.velocity));
                 if t_release >= t1 {
-                    Segment { t, x: xc, v: DVec3::ZERO, state: State::Held, wall: w }
+                    Segment { t, x: xc, v: DVec3::ZERO, state: State::Held, wall: w, memory }
                 } else {
-                    Segment { t: t_release, x: xc, v: impact.velocity, state: State::Free, wall: NO_WALL }
+                    let v = impact.velocity;
+                    Segment { t: t_release, x: xc, v, state: State::Free, wall: NO_WALL, memory }
                 }
             }
         };
@@ -117,7 +124,11 @@ impl<'a, M: Motion> Ctx<'a, M> {
         };
         let (sa, sb) = (state(a), state(b));
         for (tr, x, v, s) in [(&mut *a, xa, imp.va, sa), (&mut *b, xb, imp.vb, sb)] {
-            let seg = if tr.immobile() { tr.seg } else { Segment { t, x, v, state: s, wall: tr.seg.wall } };
+            let seg = if tr.immobile() {
+                tr.seg
+            } else {
+                Segment { t, x, v, state: s, wall: tr.seg.wall, memory: NO_MEMORY }
+            };
             self.restart(tr, seg, t1);
         }
         // Tracks are in index order, so `a` is the lower index and `n` points from a to b.

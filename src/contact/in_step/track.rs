@@ -4,7 +4,7 @@
 use super::super::Ctx;
 use crate::contact::detect::end_of_step::detect_at_end;
 use crate::contact::{ImpactLocation, locate_on_path};
-use crate::flight::{Flight, Motion, Segment};
+use crate::flight::{Flight, Motion, NO_MEMORY, Segment};
 use crate::particles::{Next, Particles, State};
 use crate::walls::{Crossing, Surface, parts_slid_along};
 use glam::DVec3;
@@ -56,6 +56,8 @@ impl<'a, M: Motion> Ctx<'a, M> {
                 v: p.vel[i],
                 state: p.state[i],
                 wall: p.wall[i],
+                // Released in this step: the path starts at the release, with an empty memory.
+                memory: if p.release_time[i] > t0 { NO_MEMORY } else { i as u32 },
             },
             end: Flight { x: next.pos[i], v: next.vel[i], state: next.state[i] },
             wall: p.wall[i],
