@@ -13,6 +13,7 @@
 
 mod lubricated;
 mod motion;
+mod spin;
 
 pub use motion::{Motion, Mover, WithMotion, dispatch};
 
@@ -42,6 +43,8 @@ pub struct Kernel<'a, M> {
     re_rate: f64,
     /// With the wall-lubrication effect only.
     lubrication: Option<lubricated::Lubrication>,
+    /// With rotation only (PHYSICS.md §9).
+    spin: Option<spin::Spin>,
 }
 
 impl<'a, M: Motion> Kernel<'a, M> {
@@ -62,6 +65,7 @@ impl<'a, M: Motion> Kernel<'a, M> {
                 added_density: if physics.has("added_mass") { fluid.density } else { 0.0 },
             });
         Kernel {
+            spin: spin::Spin::new(physics, fluid, kinds),
             lubrication,
             motion,
             walls,
