@@ -203,6 +203,10 @@ const TOLERANCE: f64 = 1e-3;
 /// more than `VELOCITY_TOLERANCE` times what gravity adds in the step, `g Δt`.
 const VELOCITY_SWEEPS: usize = 30;
 const VELOCITY_TOLERANCE: f64 = 1e-2;
+/// With friction: a bed at rest is the point of friction, so the sweeps go on until no
+/// velocity changes by more than 1e-4 `g Δt`, up to 100 sweeps.
+const FRICTION_VELOCITY_SWEEPS: usize = 100;
+const FRICTION_VELOCITY_TOLERANCE: f64 = 1e-4;
 
 /// Keeps every lasting contact at the end of the step (writes `next.pos` and `next.vel`).
 /// A neighbour pair found overlapping — left so by the events (a particle knocked off its course
@@ -480,8 +484,12 @@ fn solve_velocities<M: Motion>(
             s.omega[b] += (s.radius[b] * n).cross(rt) * s.inv_moment[b] - rr * s.inv_moment[b];
         }
     }
-    let tolerance = VELOCITY_TOLERANCE * ctx.fluid.gravity.length() * h;
-    for _ in 0..VELOCITY_SWEEPS {
+    let (sweeps, tolerance) = if spin.is_some() {
+        (FRICTION_VELOCITY_SWEEPS, FRICTION_VELOCITY_TOLERANCE * ctx.fluid.gravity.length() * h)
+    } else {
+        (VELOCITY_SWEEPS, VELOCITY_TOLERANCE * ctx.fluid.gravity.length() * h)
+    };
+    for _ in 0..sweeps {
         let mut worst: f64 = 0.0;
         for WallRow { k, n, impulse: acc, friction } in walls.iter_mut() {
             let new = (*acc - vel[*k].dot(*n) / inv[*k]).max(0.0);
