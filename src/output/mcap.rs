@@ -81,26 +81,20 @@ const EVENT_SCHEMA: &str = r#"{
   "required": ["t", "id", "other", "kind", "normal_speed", "st", "eps", "contact_time", "outcome"]
 }"#;
 
-/// [`EVENT_SCHEMA`] in a scene with rotation: two more columns, as in `events.csv`.
-const SPIN_EVENT_SCHEMA: &str = r#"{
-  "title": "wetbounce.ContactEvent",
-  "description": "One contact: the columns of events.csv",
-  "type": "object",
-  "properties": {
-    "t": {"type": "number", "description": "impact time (s)"},
-    "id": {"type": "integer", "description": "particle id"},
-    "other": {"type": "string", "description": "wall name or other particle's id"},
-    "kind": {"type": "string", "enum": ["wall", "particle", "removed"]},
-    "normal_speed": {"type": ["number", "null"], "description": "V_inf (m/s)"},
-    "st": {"type": ["number", "null"], "description": "Stokes number"},
-    "eps": {"type": ["number", "null"], "description": "restitution applied"},
-    "contact_time": {"type": ["number", "null"], "description": "t_c (s)"},
-    "outcome": {"type": "string", "enum": ["held", "bounced", "deposited", "non_finite"]},
+/// The two properties [`EVENT_SCHEMA`] gains in a scene with rotation, as in `events.csv`.
+const SPIN_EVENT_PROPERTIES: &str = r#",
     "tangential_speed": {"type": ["number", "null"], "description": "contact point's tangential speed at impact (m/s)"},
-    "incidence_angle": {"type": ["number", "null"], "description": "angle of the velocity from the normal (rad)"}
-  },
-  "required": ["t", "id", "other", "kind", "normal_speed", "st", "eps", "contact_time", "outcome"]
-}"#;
+    "incidence_angle": {"type": ["number", "null"], "description": "angle of the velocity from the normal (rad)"}"#;
+
+/// [`EVENT_SCHEMA`], with [`SPIN_EVENT_PROPERTIES`] after its last property when `rotation`.
+fn event_schema(rotation: bool) -> String {
+    let last = r#""enum": ["held", "bounced", "deposited", "non_finite"]}"#;
+    if rotation {
+        EVENT_SCHEMA.replacen(last, &format!("{last}{SPIN_EVENT_PROPERTIES}"), 1)
+    } else {
+        EVENT_SCHEMA.to_string()
+    }
+}
 
 /// Settings of the MCAP sink.
 #[derive(Debug, Clone)]
@@ -189,7 +183,6 @@ impl McapSink {
         rotation: bool,
     ) -> Result<Self, OutputError> {
         let path = path.into();
-        let event_schema = if rotation { SPIN_EVENT_SCHEMA } else { EVENT_SCHEMA };
         let file = OutputFile::create(&path, 1 << 16)?;
         let first_error = file.first_error();
         let err = |e: &dyn std::fmt::Display| OutputError::write(&path, first_error_or(&first_error, e));
@@ -217,7 +210,7 @@ impl McapSink {
         let events = ChannelBuilder::new(EVENTS_TOPIC)
             .context(&ctx)
             .message_encoding("json")
-            .schema(Schema::new("wetbounce.ContactEvent", "jsonschema", event_schema.as_bytes().to_vec()))
+            .schema(Schema::new("wetbounce.ContactEvent", "jsonschema", event_schema(rotation).into_bytes()))
             .build_raw()
             .map_err(|e| err(&e))?;
         // The header and metadata reach the file now: a file that cannot be written fails before
@@ -494,5 +487,19 @@ impl Sink for McapSink {
         }
         let mut file = w.close().map_err(|e| self.fail(&e))?;
         file.sync().map_err(|e| self.fail(&e))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_rotation_event_schema_is_json_with_two_more_properties() {
+        let v: serde_json::Value = serde_json::from_str(&event_schema(true)).unwrap();
+        assert!(
+            v["properties"]["tangential_speed"].is_object() && v["properties"]["incidence_angle"].is_object()
+        );
+        assert_eq!(event_schema(false), EVENT_SCHEMA);
     }
 }

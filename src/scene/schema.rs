@@ -215,7 +215,7 @@ pub enum FlowType {
     Poiseuille,
 }
 
-#[derive(Debug, Clone, Deserialize)]
+#[derive(Debug, Clone, Default, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct BounceSpec {
     /// β of L06 eq. 2; left out: [`DEFAULT_BETA`]. Only for the `"l06"` rule.
@@ -230,12 +230,6 @@ pub struct BounceSpec {
     pub rule: Option<RuleSpec>,
     /// `e` of the `"e"` rule; left out: the particle's (or wall's) `restitution_max`.
     pub e: Option<f64>,
-}
-
-impl Default for BounceSpec {
-    fn default() -> Self {
-        BounceSpec { beta: None, st_critical: None, tangential_restitution: None, rule: None, e: None }
-    }
 }
 
 /// `bounce.rule`.
