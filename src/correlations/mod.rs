@@ -11,6 +11,7 @@ mod drag_stiffness;
 mod faddeeva;
 mod history;
 mod restitution;
+mod rotation;
 mod stokes;
 mod terminal;
 mod wall_hindrance;
@@ -26,6 +27,7 @@ pub use history::{
     history_settling_velocity,
 };
 pub use restitution::{Restitution, restitution};
+pub use rotation::{rotational_stokes_torque, sphere_moment_of_inertia, spin_relaxation_rate_d2};
 pub use stokes::{pair_stokes_number, relaxation_time, stokes_number};
 pub use terminal::{TerminalVelocity, terminal_velocity};
 pub use wall_hindrance::{

@@ -14,6 +14,7 @@ mod contact_time;
 mod drag;
 mod gravity;
 mod history;
+mod rotation;
 mod wall_lubrication;
 
 pub use added_mass::AddedMass;
@@ -22,6 +23,7 @@ pub use contact_time::ContactTime;
 pub use drag::{Drag, DragLaw, DragLawKind, NoDrag, SchillerNaumann, Stokes};
 pub use gravity::Gravity;
 pub use history::{History, MemoryKernel, SHORTEST_LAG, history_rate_times_radius};
+pub use rotation::Rotation;
 pub use wall_lubrication::{RANGE as LUBRICATION_RANGE, WallExcess, WallLubrication, taper, wall_excess};
 
 use crate::fluid::Fluid;
@@ -30,7 +32,7 @@ use glam::DVec3;
 
 /// Names accepted in a scene's `[effects]` table, in the order the docs list them.
 pub const EFFECT_NAMES: &[&str] =
-    &["gravity", "buoyancy", "drag", "added_mass", "contact_time", "wall_lubrication", "history"];
+    &["gravity", "buoyancy", "drag", "added_mass", "contact_time", "wall_lubrication", "history", "rotation"];
 
 /// One physical effect: adds its part to the scene's [`Physics`].
 pub trait Effect: std::fmt::Debug + Send + Sync {
@@ -72,6 +74,7 @@ pub fn build_effect(name: &str, table: toml::Value) -> Result<Box<dyn Effect>, E
         "contact_time" => Box::new(parse::<ContactTime>(table)?),
         "wall_lubrication" => Box::new(parse::<WallLubrication>(table)?),
         "history" => Box::new(parse::<History>(table)?.validated()?),
+        "rotation" => Box::new(parse::<Rotation>(table)?),
         other => {
             return Err(EffectError::new(
                 "",
@@ -108,6 +111,9 @@ pub struct Physics {
     /// With the history effect **[ext]**: the memory kernel of the Basset–Boussinesq force
     /// (PHYSICS.md §10), integrated by the flight kernel with one memory per particle.
     pub history: Option<MemoryKernel>,
+    /// With rotation **[ext]** (the effect, or any friction key in the scene): particles spin,
+    /// the fluid's torque relaxes the spin, contacts with friction change it (PHYSICS.md §9).
+    pub rotation: bool,
     /// Names of the effects, in the order they were applied.
     pub effect_names: Vec<&'static str>,
 }
@@ -125,6 +131,7 @@ impl Physics {
             hold_at_contact: false,
             wall_lubrication: false,
             history: None,
+            rotation: false,
             effect_names: Vec::new(),
         };
         for effect in effects {

@@ -14,6 +14,7 @@
 mod lubricated;
 mod motion;
 mod remembered;
+mod spin;
 
 pub use motion::{Motion, Mover, WithMotion, dispatch};
 pub use remembered::StepCoefficients;
@@ -45,6 +46,8 @@ pub struct Kernel<'a, M> {
     /// With an effect that is not one linearised force (wall lubrication, history) only: one
     /// field, so that a scene without them tests one `None` per flight, as before they existed.
     nonlinear: Option<NonLinear<'a>>,
+    /// With rotation only (PHYSICS.md §9).
+    spin: Option<spin::Spin>,
 }
 
 /// The effects the free flight cannot fold into the linearised force; a scene has at most one
@@ -78,6 +81,7 @@ impl<'a, M: Motion> Kernel<'a, M> {
         });
         Kernel {
             nonlinear,
+            spin: spin::Spin::new(physics, fluid, kinds),
             motion,
             walls,
             kind_accel: (0..n).map(|k| physics.body_acceleration(k)).collect(),

@@ -306,6 +306,9 @@ impl WithMotion for StepWith<'_> {
         contact::release_pairs(&ctx, p, &mut world.lasting, t1);
         // 1.–3. (walls): one pass over the particles.
         let pass = particle_pass::run(&flight, p, (t0, t1), &mut scratch.next, &mut scratch.wall_candidates);
+        if flight.rotation() {
+            particle_pass::spin(&flight, p, h, &mut scratch.next);
+        }
         laps.lap(&mut times.particle_pass);
         // 3. Broad phase (pairs).
         scratch.pair_candidates.clear();

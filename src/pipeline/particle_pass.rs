@@ -36,7 +36,7 @@ pub(crate) fn run<M: Motion>(
     wall_candidates: &mut Vec<u32>,
 ) -> PassResult {
     let n = p.len();
-    next.resize(n);
+    next.resize(n, flight.rotation());
     let modes = flight.memory_modes();
     if let Some(modes) = modes {
         next.memory.resize(n * modes, DVec3::ZERO);
@@ -100,6 +100,20 @@ pub(crate) fn run<M: Motion>(
     }
     result.step_move = result.step_move.sqrt();
     result
+}
+
+/// Stage 2 for spins, in a scene with rotation only (PHYSICS.md §9): every particle's spin
+/// relaxed by the fluid's torque over the step (`Kernel::spin_after`), into `next.omega`. A
+/// pass of its own, not in the loops above: translation does not depend on spin, and a scene
+/// without rotation must keep those loops as they are.
+pub(crate) fn spin<M: Motion>(flight: &Kernel<M>, p: &Particles, h: f64, next: &mut Next) {
+    let (kind, diameter, pos, omega) = (&p.kind, &p.diameter, &p.pos, &p.omega);
+    next.omega.par_chunks_mut(CHUNK).enumerate().for_each(|(c, out)| {
+        for (j, o) in out.iter_mut().enumerate() {
+            let i = c * CHUNK + j;
+            *o = flight.spin_after((kind[i] as usize, diameter[i]), pos[i], omega[i], h);
+        }
+    });
 }
 
 /// One chunk of the particle columns: the state at the start of the step (read), the part of

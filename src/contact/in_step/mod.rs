@@ -62,6 +62,10 @@ pub(crate) fn resolve_in_step<M: Motion>(
             next.pos[i] = x;
             next.vel[i] = v;
             next.state[i] = tr.end.state;
+            if ctx.flight.rotation() {
+                // The same as stage 2's spin for a particle without contact in the step.
+                next.omega[i] = ctx.spin_at(&tr, t1);
+            }
             next.wall[i] = if tr.end.state == State::Free { NO_WALL } else { tr.seg.wall };
             if let Some((release_time, release_vel)) = tr.release {
                 next.holds.push(WallHold { index: i as u32, release_time, release_vel });
