@@ -12,7 +12,8 @@ use wetbounce::Scene;
 #[test]
 #[ignore = "criterion of issue 16 not met yet: the bed ends at ~1e-3 m/s, not 1e-6 (see doc)"]
 fn settling_bed_with_friction_ends_with_every_bead_below_a_micrometre_per_second() {
-    let scene = Scene::load(Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/settling_bed_friction.toml")).unwrap();
+    let scene =
+        Scene::load(Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/settling_bed_friction.toml")).unwrap();
     assert!(scene.setup.rule.friction, "the shipped bed has friction");
     let mut sim = scene.simulation();
     let mut t = 0.0;
