@@ -170,7 +170,7 @@ fn legacy(n: usize) -> Vtk {
 }
 
 #[test]
-fn image_rectilinear_unstructured_and_legacy_files_written_by_vtkio_read_back() {
+fn image_rectilinear_and_unstructured_files_written_by_vtkio_read_back() {
     let dir = tempfile::tempdir().unwrap();
     let n = 3;
     let (c, u) = lattice(n);
@@ -188,12 +188,8 @@ fn image_rectilinear_unstructured_and_legacy_files_written_by_vtkio_read_back() 
             data: point_data(u),
         }))],
     };
-    let cases: Vec<(&str, Vtk)> = vec![
-        ("f.vti", xml(image(n))),
-        ("f.vtr", xml(rect)),
-        ("f.vtu", xml(unstructured(n))),
-        ("f.vtk", legacy(n)),
-    ];
+    let cases: Vec<(&str, Vtk)> =
+        vec![("f.vti", xml(image(n))), ("f.vtr", xml(rect)), ("f.vtu", xml(unstructured(n)))];
     for (name, vtk) in cases {
         let path = dir.path().join(name);
         vtk.export(&path).unwrap();
