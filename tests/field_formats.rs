@@ -237,11 +237,9 @@ position = [0.5, 0.5, 0.5]
 #[test]
 fn a_uniform_field_read_from_a_file_moves_a_bead_like_the_uniform_flow() {
     let dir = tempfile::tempdir().unwrap();
-    let n = 2;
-    let c: Vec<f64> = (0..=n).map(|i| i as f64 / n as f64).collect();
+    let n: i32 = 2;
     let u: Vec<f64> = (0..(n + 1) * (n + 1) * (n + 1)).flat_map(|_| [0.02, -0.01, 0.005]).collect();
-    let _ = c;
-    let extent = Extent::Ranges([0..=n as i32, 0..=n as i32, 0..=n as i32]);
+    let extent = Extent::Ranges([0..=n, 0..=n, 0..=n]);
     let data = DataSet::ImageData {
         extent: extent.clone(),
         origin: [0.0; 3],

@@ -113,7 +113,7 @@ pub(super) fn build_field(f: &FlowSpec, base: &Path) -> Result<Flow, Invalid> {
         }
     }
     for (i, w) in entries.windows(2).enumerate() {
-        if !(w[1].2 > w[0].2) {
+        if w[1].2 <= w[0].2 {
             let key = if f.files.is_some() { format!("{}[{}]", k("times"), i + 1) } else { k("file") };
             return Err(Invalid::new(
                 key,

@@ -357,12 +357,12 @@ fn unstructured(
             // (OpenFOAM's volPointInterpolation); the centres keep the cells' own values.
             let mut sum = vec![DVec3::ZERO; n_points];
             let mut weight = vec![0.0; n_points];
-            for c in 0..mesh.cells() {
+            for (c, &value) in tuples.iter().enumerate().take(mesh.cells()) {
                 let centre = mesh.nodes[n_points + c];
                 for &i in &mesh.cell_points[mesh.cell_offsets[c] as usize..mesh.cell_offsets[c + 1] as usize]
                 {
                     let w = 1.0 / (mesh.nodes[i as usize] - centre).length();
-                    sum[i as usize] += w * tuples[c];
+                    sum[i as usize] += w * value;
                     weight[i as usize] += w;
                 }
             }

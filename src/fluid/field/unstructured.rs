@@ -159,7 +159,7 @@ impl Unstructured {
             }
             let bb = Aabb::from_points(v.iter().map(|&i| nodes[i as usize]));
             let diag = (bb.maxs - bb.mins).length();
-            if !(volume > 1e-12 * diag * diag * diag) {
+            if volume.is_nan() || volume <= 1e-12 * diag * diag * diag {
                 return Err(CellProblem::Degenerate(c, volume));
             }
             let size = volume.cbrt();
@@ -222,6 +222,7 @@ impl Unstructured {
 
     /// The stencil at `p`: the tetrahedron holding it, or when none does, the value at the
     /// grid's nearest point (`Err`, so that the caller applies its policy).
+    #[allow(clippy::result_large_err)] // a stencil either way; Err says the point was outside
     pub fn stencil(&self, p: DVec3) -> Result<Stencil, Stencil> {
         match self.locate(p) {
             Ok(t) => Ok(self.tet_stencil(t, p, false)),
