@@ -134,6 +134,27 @@ impl Flow {
             _ => None,
         }
     }
+
+    /// Half the fluid's vorticity `½ ∇×u` at `x` (rad/s) **[ext]**: the spin a torque-free
+    /// sphere takes in the flow (PHYSICS.md §9). Zero in a quiescent or uniform flow; in the
+    /// pipe, with `u = u_max (1 − ρ²/R²) e` and `ρ` the distance from the axis,
+    /// `∇×u = ∇u_z × e = −(2 u_max / R²) ρ⃗ × e`, so `½ ∇×u = (u_max / R²) e × ρ⃗` inside the
+    /// pipe and 0 outside (where the flow is taken as still).
+    pub fn half_vorticity(&self, x: DVec3) -> DVec3 {
+        match *self {
+            Flow::Quiescent | Flow::Uniform(_) => DVec3::ZERO,
+            Flow::Poiseuille(p) => {
+                let rel = x - p.point;
+                let across = rel - rel.dot(p.axis) * p.axis;
+                let r2 = p.radius * p.radius;
+                if across.length_squared() > r2 {
+                    DVec3::ZERO
+                } else {
+                    (p.max_velocity / r2) * p.axis.cross(across)
+                }
+            }
+        }
+    }
 }
 
 #[cfg(test)]
@@ -147,5 +168,20 @@ mod tests {
         let half = p.velocity(DVec3::new(0.01, 0.0, -3.0));
         assert!((half.z + 0.075).abs() < 1e-15 && half.x == 0.0 && half.y == 0.0);
         assert_eq!(p.velocity(DVec3::new(0.0, 0.03, 0.0)), DVec3::ZERO);
+    }
+
+    #[test]
+    fn poiseuille_half_vorticity_matches_a_central_difference_curl() {
+        let p =
+            Poiseuille { point: DVec3::new(0.01, 0.0, 0.0), axis: DVec3::Z, radius: 0.02, max_velocity: 0.3 };
+        let flow = Flow::Poiseuille(p);
+        let x = DVec3::new(0.017, -0.004, 0.2);
+        let h = 1e-6;
+        let d = |e: DVec3| (p.velocity(x + h * e) - p.velocity(x - h * e)) / (2.0 * h);
+        let (dx, dy, dz) = (d(DVec3::X), d(DVec3::Y), d(DVec3::Z));
+        let curl = DVec3::new(dy.z - dz.y, dz.x - dx.z, dx.y - dy.x);
+        let half = flow.half_vorticity(x);
+        assert!((half - 0.5 * curl).length() < 1e-6 * curl.length(), "{half} vs {}", 0.5 * curl);
+        assert_eq!(Flow::Uniform(DVec3::X).half_vorticity(x), DVec3::ZERO);
     }
 }

@@ -230,6 +230,8 @@ fn create_sinks(
 ) -> Result<(Sinks, Vec<PathBuf>), String> {
     let mut written: Vec<PathBuf> = Vec::new();
     let mut sinks: Sinks = Vec::new();
+    // Spin columns only in a scene with rotation: the others keep their files byte for byte.
+    let rotation = scene.setup.physics.rotation;
     let created = (|| -> Result<(), OutputError> {
         if formats.contains(&Format::Mcap) {
             let file = out.join(format!("{stem}.mcap"));
@@ -238,12 +240,12 @@ fn create_sinks(
                 scene_path: args.scene.display().to_string(),
                 scene_source: scene.source.clone(),
             };
-            sinks.push(Box::new(McapSink::create(&file, options)?));
+            sinks.push(Box::new(McapSink::create_for(&file, options, rotation)?));
             written.push(file);
         }
         if formats.contains(&Format::Csv) {
             let t = out.join("trajectories.csv");
-            sinks.push(Box::new(TrajectoryCsv::create(&t)?));
+            sinks.push(Box::new(TrajectoryCsv::create_for(&t, rotation)?));
             written.push(t);
         }
         if formats.contains(&Format::Vtk) {
@@ -255,7 +257,7 @@ fn create_sinks(
         // The events are one table for both: ParaView opens events.csv as a table it can plot.
         if formats.contains(&Format::Csv) || formats.contains(&Format::Vtk) {
             let e = out.join("events.csv");
-            sinks.push(Box::new(EventCsv::create(&e)?));
+            sinks.push(Box::new(EventCsv::create_for(&e, rotation)?));
             written.push(e);
         }
         #[cfg(feature = "rerun")]

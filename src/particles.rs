@@ -33,6 +33,30 @@ pub struct ParticleKind {
     /// Surface roughness `h_r` (m) **[ext]**: with the `wall_lubrication` effect, contact with
     /// a wall is made at this gap plus the wall's roughness (PHYSICS.md §8); 0 when not given.
     pub roughness: f64,
+    /// Friction keys of the kind **[ext]** (PHYSICS.md §9); all `None` when not given.
+    pub friction: FrictionMaterial,
+}
+
+/// The friction keys of one surface (a particle kind or a wall) **[ext]**, PHYSICS.md §9: each
+/// `None` when the scene does not give it. How two surfaces' values combine is
+/// `contact::rules::friction::Friction::between`.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct FrictionMaterial {
+    /// Coulomb friction coefficient `μ` (dimensionless, ≥ 0).
+    pub friction: Option<f64>,
+    /// Tangential restitution `β0` of Walton's impulse model (dimensionless, −1 to 1): the
+    /// contact point's tangential velocity after a sticking impact is `−β0` times that before.
+    pub tangential_restitution: Option<f64>,
+    /// Rolling friction coefficient `μ_r` (dimensionless, ≥ 0): a lasting contact resists
+    /// rolling with a torque up to `μ_r R N`.
+    pub rolling_friction: Option<f64>,
+}
+
+impl FrictionMaterial {
+    /// True when the surface names any friction key.
+    pub fn named(&self) -> bool {
+        self.friction.is_some() || self.tangential_restitution.is_some() || self.rolling_friction.is_some()
+    }
 }
 
 /// Where a particle is in the bounce rule (PHYSICS.md §5).
@@ -95,6 +119,9 @@ pub struct Particles {
     pub pos: Vec<DVec3>,
     /// Velocity (m/s).
     pub vel: Vec<DVec3>,
+    /// Angular velocity `ω` (rad/s) **[ext]**: stays zero in a scene without rotation
+    /// (PHYSICS.md §9), which never reads nor writes it in the step.
+    pub omega: Vec<DVec3>,
     /// Free, held or resting.
     pub state: Vec<State>,
     /// The wall a held ([`State::Held`]) or resting particle touches, [`NO_WALL`] otherwise.
@@ -109,6 +136,12 @@ pub struct Particles {
     /// initial particles, the injection time for injected ones. An outlet's residence time is
     /// the removal time minus this.
     pub born: Vec<f64>,
+    /// With the history effect **[ext]** only (empty otherwise): each particle's memory of its
+    /// past accelerations, [`Particles::memory_modes`] vectors per particle (m/s each: the
+    /// mode `F_k = ∫ e^{−λ_k (t − s)} dw/ds ds` of the slip `w`; PHYSICS.md §10).
+    pub memory: Vec<DVec3>,
+    /// Modes per particle in [`Particles::memory`]; 0 without the history effect.
+    pub memory_modes: usize,
 }
 
 impl Particles {
@@ -129,11 +162,14 @@ impl Particles {
         self.diameter.push(diameter);
         self.pos.push(pos);
         self.vel.push(vel);
+        self.omega.push(DVec3::ZERO);
         self.state.push(State::Free);
         self.wall.push(NO_WALL);
         self.release_time.push(f64::NEG_INFINITY);
         self.release_vel.push(DVec3::ZERO);
         self.born.push(0.0);
+        // A new particle remembers nothing: as if it had moved at its velocity forever.
+        self.memory.resize(self.memory.len() + self.memory_modes, DVec3::ZERO);
         self.len() - 1
     }
 
@@ -148,11 +184,21 @@ impl Particles {
         column(&mut self.diameter, keep);
         column(&mut self.pos, keep);
         column(&mut self.vel, keep);
+        column(&mut self.omega, keep);
         column(&mut self.state, keep);
         column(&mut self.wall, keep);
         column(&mut self.release_time, keep);
         column(&mut self.release_vel, keep);
         column(&mut self.born, keep);
+        if self.memory_modes > 0 {
+            let modes = self.memory_modes;
+            let mut i = 0;
+            self.memory.retain(|_| {
+                let k = keep[i / modes];
+                i += 1;
+                k
+            });
+        }
     }
 }
 
@@ -166,12 +212,17 @@ pub struct Next {
     pub pos: Vec<DVec3>,
     /// Velocity (m/s).
     pub vel: Vec<DVec3>,
+    /// Angular velocity (rad/s): sized only in a scene with rotation, empty otherwise.
+    pub omega: Vec<DVec3>,
     /// Free, held, pair-held or resting.
     pub state: Vec<State>,
     /// The wall of a held or resting particle, [`NO_WALL`] otherwise.
     pub wall: Vec<u32>,
     /// Holds at a wall that began in the step (few: kept as a list, not as full columns).
     pub holds: Vec<WallHold>,
+    /// With the history effect: each particle's memory at the end of the step (written by
+    /// the particle pass and, for the particles whose path a contact restarted, by stage 4).
+    pub memory: Vec<DVec3>,
 }
 
 /// A hold at a wall that began in the step: when particle `index` is released, and at what
@@ -188,10 +239,12 @@ pub struct WallHold {
 
 impl Next {
     /// Sizes the columns for `n` particles (their values are all written by the step) and
-    /// forgets the last step's holds.
-    pub fn resize(&mut self, n: usize) {
+    /// forgets the last step's holds. The spin column is sized only with `rotation`: a scene
+    /// without it never touches it.
+    pub fn resize(&mut self, n: usize, rotation: bool) {
         self.pos.resize(n, DVec3::ZERO);
         self.vel.resize(n, DVec3::ZERO);
+        self.omega.resize(if rotation { n } else { 0 }, DVec3::ZERO);
         self.state.resize(n, State::Free);
         self.wall.resize(n, NO_WALL);
         self.holds.clear();
@@ -204,8 +257,23 @@ impl Particles {
     pub fn commit(&mut self, next: &mut Next) {
         std::mem::swap(&mut self.pos, &mut next.pos);
         std::mem::swap(&mut self.vel, &mut next.vel);
+        // Only a scene with rotation sized (and wrote) the step's spins.
+        if next.omega.len() == self.omega.len() {
+            std::mem::swap(&mut self.omega, &mut next.omega);
+        }
         std::mem::swap(&mut self.state, &mut next.state);
         std::mem::swap(&mut self.wall, &mut next.wall);
+        if self.memory_modes > 0 {
+            std::mem::swap(&mut self.memory, &mut next.memory);
+            // A particle held at a wall or resting on one remembers nothing: its flight after
+            // the release starts a new memory (PHYSICS.md §10, "impact, hold and release").
+            let modes = self.memory_modes;
+            for (s, m) in self.state.iter().zip(self.memory.chunks_exact_mut(modes)) {
+                if matches!(s, State::Held | State::Resting) {
+                    m.fill(DVec3::ZERO);
+                }
+            }
+        }
         for h in next.holds.drain(..) {
             self.release_time[h.index as usize] = h.release_time;
             self.release_vel[h.index as usize] = h.release_vel;

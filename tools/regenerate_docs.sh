@@ -6,4 +6,5 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 cargo run --release -p wetbounce-tools --bin paper_figures -- docs/figures "$@"
 cargo run --release -p wetbounce-tools --bin restitution_emergent -- docs/figures "$@"
+cargo run --release -p wetbounce-tools --bin bounce_comparison -- docs/figures "$@"
 cargo run --release -p wetbounce-tools --bin accuracy_study -- docs/accuracy "$@"

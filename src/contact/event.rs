@@ -42,6 +42,13 @@ pub struct ContactEvent {
     pub other: Other,
     /// Normal approach speed `V∞` at contact (m/s).
     pub normal_speed: f64,
+    /// Tangential speed of the contact point, relative to the wall or the other particle, just
+    /// before the contact (m/s): `|v_ct|` of PHYSICS.md §9, with the spin's part
+    /// (`Ψ1 = tangential_speed / normal_speed`). **[ext]**
+    pub tangential_speed: f64,
+    /// Incidence angle (rad): of the centre's velocity relative to the wall or the other
+    /// particle, from the normal (0 head-on, π/2 grazing). **[ext]**
+    pub incidence_angle: f64,
     /// Stokes number of the impact.
     pub st: f64,
     /// Restitution applied (0 for a deposit).
@@ -51,8 +58,8 @@ pub struct ContactEvent {
     /// Held, bounced or deposited.
     pub outcome: Outcome,
     /// Kinetic energy (J) just before the contact, of the particle (of both, for a pair), with
-    /// the inertia of the force balance `(ρp + C_M ρ) π d³/6`; a particle held at a wall counts
-    /// 0. Kept for checks (the bounce rule never adds energy); not written to the outputs.
+    /// the inertia of the force balance `(ρp + C_M ρ) π d³/6`, plus with rotation `½ I |ω|²`;
+    /// a particle held at a wall counts 0. Kept for checks (the bounce rule never adds energy); not written to the outputs.
     pub energy_before: f64,
     /// Kinetic energy (J) right after the contact: at once for a rebound or a deposit, at
     /// release for a hold (the release velocities, before the forces act during the hold).

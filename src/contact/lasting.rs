@@ -4,6 +4,7 @@
 //! (deterministic), with the walls the particles touch.
 
 use super::Ctx;
+use super::rules::Friction;
 use crate::flight::Motion;
 use crate::particles::{Next, Particles, State};
 use crate::walls::{Surface, push_out};
@@ -23,6 +24,10 @@ pub struct LastingContact {
     /// projection starts from it (warm start), so a bed carrying its own weight converges in a
     /// few sweeps instead of one sweep per layer.
     pub force: f64,
+    /// With friction **[ext]**: the tangential force (N, on `a`) and the rolling-resistance
+    /// torque (N m, on `a`) the contact carried in the last step, the warm start of its friction
+    /// rows as `force` is of its normal one.
+    pub friction: Option<(DVec3, DVec3)>,
 }
 
 /// The release of a held pair.
@@ -39,12 +44,18 @@ pub struct PairHold {
 impl LastingContact {
     /// A resting contact.
     pub fn resting(a: u32, b: u32) -> Self {
-        LastingContact { a, b, hold: None, force: 0.0 }
+        LastingContact { a, b, hold: None, force: 0.0, friction: None }
     }
 
     /// A hold until `release_time`.
     pub fn held(a: u32, b: u32, release_time: f64, normal_speed: f64, tangential: DVec3) -> Self {
-        LastingContact { a, b, hold: Some(PairHold { release_time, normal_speed, tangential }), force: 0.0 }
+        LastingContact {
+            a,
+            b,
+            hold: Some(PairHold { release_time, normal_speed, tangential }),
+            force: 0.0,
+            friction: None,
+        }
     }
 }
 
@@ -73,6 +84,8 @@ struct WallRow {
     k: usize,
     n: DVec3,
     impulse: f64,
+    /// With friction: its rows (the wall is `b`).
+    friction: Option<FrictionRows>,
 }
 
 /// One pair in the velocity sweeps: the two particles' places among the involved, the normal
@@ -82,6 +95,99 @@ struct PairRow {
     b: usize,
     n: DVec3,
     impulse: f64,
+    /// With friction, for a resting pair (a hold is a bond and has none).
+    friction: Option<FrictionRows>,
+}
+
+/// The friction rows of one contact **[ext]** (PHYSICS.md §9): Coulomb friction on the contact
+/// point's slip and rolling resistance on the relative rolling, each an impulse accumulated over
+/// the sweeps (N s, and N m s, on `a`) and kept inside its cone: `|J_t| ≤ μ N`,
+/// `|L_r| ≤ μ_r R N`, `N` the contact's accumulated normal impulse plus `support`.
+struct FrictionRows {
+    f: Friction,
+    /// Normal impulse (N s) the flight kernel already gave a particle resting on this wall: it
+    /// slid along the wall, its push into the wall removed there, not by a row of this solver.
+    support: f64,
+    /// Lever arm of the rolling resistance, the reduced radius (m).
+    arm: f64,
+    tangent: DVec3,
+    rolling: DVec3,
+}
+
+/// The state of the friction sweeps: each involved particle's spin, inverse moment of inertia
+/// and radius.
+struct Spins {
+    omega: Vec<DVec3>,
+    inv_moment: Vec<f64>,
+    radius: Vec<f64>,
+}
+
+impl FrictionRows {
+    fn new(f: Friction, support: f64, arm: f64, warm: Option<(DVec3, DVec3)>, n: DVec3, h: f64) -> Self {
+        let (tangent, rolling) = match warm {
+            // The last step's force, turned into this step's tangent plane (the normal moved).
+            Some((t, r)) => ((t - t.dot(n) * n) * h, (r - r.dot(n) * n) * h),
+            None => (DVec3::ZERO, DVec3::ZERO),
+        };
+        FrictionRows { f, support, arm, tangent, rolling }
+    }
+
+    /// One Gauss–Seidel update of the friction and rolling rows of the contact between `a` and
+    /// `b` (`b = None`: a wall) with normal `n` from `a` to `b` and accumulated normal impulse
+    /// `normal`; returns the largest velocity change it made (m/s).
+    fn sweep(
+        &mut self,
+        (vel, s): (&mut [DVec3], &mut Spins),
+        (a, wa): (usize, f64),
+        b: Option<(usize, f64)>,
+        n: DVec3,
+        normal: f64,
+    ) -> f64 {
+        let load = (normal + self.support).max(0.0);
+        let (ra, ia) = (s.radius[a], s.inv_moment[a]);
+        let (vb, ob, rb, ib, wb) = match b {
+            Some((b, wb)) => (vel[b], s.omega[b], s.radius[b], s.inv_moment[b], wb),
+            None => (DVec3::ZERO, DVec3::ZERO, 0.0, 0.0, 0.0),
+        };
+        // Coulomb: the impulse that stops the slip, inside the cone.
+        let u = (vel[a] + s.omega[a].cross(ra * n)) - (vb + ob.cross(-rb * n));
+        let slip = u - u.dot(n) * n;
+        let c = wa + wb + ra * ra * ia + rb * rb * ib;
+        let mut worst: f64 = 0.0;
+        if c > 0.0 {
+            let new = clamp_length(self.tangent - slip / c, self.f.mu * load);
+            let dj = new - self.tangent;
+            self.tangent = new;
+            vel[a] += dj * wa;
+            s.omega[a] += (ra * n).cross(dj) * ia;
+            if let Some((b, wb)) = b {
+                vel[b] -= dj * wb;
+                s.omega[b] += (rb * n).cross(dj) * ib;
+            }
+            worst = worst.max(dj.length() * c);
+        }
+        // Rolling resistance: the angular impulse that stops the relative rolling, inside its
+        // cone (a torque up to μ_r R N).
+        if self.f.rolling > 0.0 && ia + ib > 0.0 {
+            let w = s.omega[a] - b.map_or(DVec3::ZERO, |(b, _)| s.omega[b]);
+            let rolling = w - w.dot(n) * n;
+            let new = clamp_length(self.rolling - rolling / (ia + ib), self.f.rolling * self.arm * load);
+            let dl = new - self.rolling;
+            self.rolling = new;
+            s.omega[a] += dl * ia;
+            if let Some((b, _)) = b {
+                s.omega[b] -= dl * ib;
+            }
+            worst = worst.max(dl.length() * (ia + ib) * self.arm);
+        }
+        worst
+    }
+}
+
+/// `v` shortened to length `limit` when longer.
+fn clamp_length(v: DVec3, limit: f64) -> DVec3 {
+    let l2 = v.length_squared();
+    if l2 > limit * limit { v * (limit / l2.sqrt()) } else { v }
 }
 
 /// Gap beyond which a resting pair has separated (relative to the sum of radii): hysteresis,
@@ -97,6 +203,10 @@ const TOLERANCE: f64 = 1e-3;
 /// more than `VELOCITY_TOLERANCE` times what gravity adds in the step, `g Δt`.
 const VELOCITY_SWEEPS: usize = 30;
 const VELOCITY_TOLERANCE: f64 = 1e-2;
+/// With friction: a bed at rest is the point of friction, so the sweeps go on until no
+/// velocity changes by more than 1e-4 `g Δt`, up to 100 sweeps.
+const FRICTION_VELOCITY_SWEEPS: usize = 100;
+const FRICTION_VELOCITY_TOLERANCE: f64 = 1e-4;
 
 /// Keeps every lasting contact at the end of the step (writes `next.pos` and `next.vel`).
 /// A neighbour pair found overlapping — left so by the events (a particle knocked off its course
@@ -113,6 +223,7 @@ pub(crate) fn keep_lasting<M: Motion>(
     neighbour_pairs: &[[u32; 2]],
     h: f64,
 ) -> bool {
+    let friction = ctx.rule.friction;
     let (x, v, state) = (&mut next.pos, &mut next.vel, &next.state);
     let reach_of = |a: u32, b: u32| 0.5 * (p.diameter[a as usize] + p.diameter[b as usize]);
     contacts.retain(|c| {
@@ -138,7 +249,7 @@ pub(crate) fn keep_lasting<M: Motion>(
         known.extend(found.iter().map(|c| [c.a, c.b]));
         contacts.extend(found);
         if contacts.is_empty() {
-            return false;
+            break;
         }
         if contacts.len() == before && round > 0 {
             break;
@@ -174,7 +285,18 @@ pub(crate) fn keep_lasting<M: Motion>(
             }
         }
     }
-    solve_velocities(ctx, p, x, v, contacts, &involved, &w, h);
+    if friction {
+        // With friction a particle resting alone on a wall is held by it too: the kernel slid
+        // it without friction, the rows below add it.
+        involved.extend((0..p.len()).filter(|&i| state[i] == State::Resting));
+        involved.sort_unstable();
+        involved.dedup();
+    }
+    if involved.is_empty() {
+        return false;
+    }
+    let spins = friction.then_some((&mut next.omega[..], &next.wall[..]));
+    solve_velocities(ctx, p, (x, v, state), spins, contacts, &involved, &w, h);
     involved.iter().any(|&i| !(x[i].is_finite() && v[i].is_finite()))
 }
 
@@ -270,12 +392,16 @@ fn places(n: usize, involved: &[usize]) -> Places<'_> {
 /// as a velocity that throws the pair apart, which is what kept a bed jittering at ~`g Δt`.
 /// A pair's impulse starts from the force it carried in the last step (warm start), and the
 /// force found is kept for the next.
+///
+/// With friction (`spins`: the spin column and each particle's wall), every contact and wall
+/// row also has its friction rows ([`FrictionRows`]), updated right after its normal row, and
+/// warm-started like it.
 #[allow(clippy::too_many_arguments)]
 fn solve_velocities<M: Motion>(
     ctx: &Ctx<M>,
     p: &Particles,
-    x: &[DVec3],
-    v: &mut [DVec3],
+    (x, v, state): (&[DVec3], &mut [DVec3], &[State]),
+    spins: Option<(&mut [DVec3], &[u32])>,
     contacts: &mut [LastingContact],
     involved: &[usize],
     w: &impl Fn(usize) -> f64,
@@ -288,14 +414,44 @@ fn solve_velocities<M: Motion>(
     let local = |i: u32| place.of(i as usize);
     let inv: Vec<f64> = involved.iter().map(|&i| w(i)).collect();
     let mut vel: Vec<DVec3> = involved.iter().map(|&i| v[i]).collect();
+    let (omega, wall_of) = match spins {
+        Some((omega, wall_of)) => (Some(omega), Some(wall_of)),
+        None => (None, None),
+    };
+    let mut spin = omega.as_ref().map(|omega| Spins {
+        omega: involved.iter().map(|&i| omega[i]).collect(),
+        inv_moment: involved
+            .iter()
+            .zip(&inv)
+            .map(
+                |(&i, &w)| if w > 0.0 { 1.0 / ctx.moment_of(p.kind[i] as usize, p.diameter[i]) } else { 0.0 },
+            )
+            .collect(),
+        radius: involved.iter().map(|&i| 0.5 * p.diameter[i]).collect(),
+    });
     let mut walls: Vec<WallRow> = Vec::new();
     for (k, &i) in involved.iter().enumerate().filter(|&(k, _)| inv[k] > 0.0) {
         let r = 0.5 * p.diameter[i];
         // A sphere grown by twice the tolerance: clear of it, no part is within the tolerance.
         let near = |wall: &&crate::walls::Wall| wall.shape.may_touch(x[i], x[i], r * (1.0 + 2.0 * TOLERANCE));
-        for wall in ctx.walls().iter().filter(near) {
+        // With friction, a particle resting on a wall slid on it in the flight kernel, which took
+        // out its push into the wall: that push, `m max(0, −a·n) h`, is the wall's normal
+        // impulse on it, and bounds its friction.
+        let resting_on = wall_of.filter(|_| state[i] == State::Resting).map(|walls| walls[i] as usize);
+        for (wi, wall) in ctx.walls().iter().enumerate().filter(|(_, w)| near(w)) {
             wall.shape.touching(x[i], r, TOLERANCE * r, |_, g| {
-                walls.push(WallRow { k, n: g.normal, impulse: 0.0 })
+                let friction = spin.as_ref().map(|_| {
+                    let kind = &ctx.kinds[p.kind[i] as usize];
+                    let support = if resting_on == Some(wi) {
+                        let a = ctx.flight.acceleration((p.kind[i] as usize, p.diameter[i]), x[i], v[i]);
+                        (-a.dot(g.normal)).max(0.0) * h / inv[k]
+                    } else {
+                        0.0
+                    };
+                    let f = Friction::between(&kind.friction, &wall.material.friction);
+                    FrictionRows::new(f, support, r, None, g.normal, h)
+                });
+                walls.push(WallRow { k, n: g.normal, impulse: 0.0, friction })
             });
         }
     }
@@ -304,24 +460,49 @@ fn solve_velocities<M: Motion>(
         .map(|c| {
             let n = (x[c.b as usize] - x[c.a as usize]).normalize_or(DVec3::Z);
             let warm = if c.hold.is_none() { (c.force * h).max(0.0) } else { 0.0 };
-            PairRow { a: local(c.a), b: local(c.b), n, impulse: warm }
+            let friction = spin.as_ref().filter(|_| c.hold.is_none()).map(|_| {
+                let (ka, kb) =
+                    (&ctx.kinds[p.kind[c.a as usize] as usize], &ctx.kinds[p.kind[c.b as usize] as usize]);
+                let (ra, rb) = (0.5 * p.diameter[c.a as usize], 0.5 * p.diameter[c.b as usize]);
+                let f = Friction::between(&ka.friction, &kb.friction);
+                FrictionRows::new(f, 0.0, ra * rb / (ra + rb), c.friction, -n, h)
+            });
+            PairRow { a: local(c.a), b: local(c.b), n, impulse: warm, friction }
         })
         .collect();
-    for &PairRow { a, b, n, impulse: j } in &rows {
+    for PairRow { a, b, n, impulse: j, friction } in &rows {
+        let (a, b, n, j) = (*a, *b, *n, *j);
         vel[a] -= n * j * inv[a];
         vel[b] += n * j * inv[b];
+        // The last step's friction as well: on `a` (contact point at `+r_a n`), its opposite on
+        // `b` (at `−r_b n`), as `FrictionRows::sweep` applies it.
+        if let (Some(fr), Some(s)) = (friction, spin.as_mut()) {
+            let (rt, rr) = (fr.tangent, fr.rolling);
+            vel[a] += rt * inv[a];
+            vel[b] -= rt * inv[b];
+            s.omega[a] += (s.radius[a] * n).cross(rt) * s.inv_moment[a] + rr * s.inv_moment[a];
+            s.omega[b] += (s.radius[b] * n).cross(rt) * s.inv_moment[b] - rr * s.inv_moment[b];
+        }
     }
-    let tolerance = VELOCITY_TOLERANCE * ctx.fluid.gravity.length() * h;
-    for _ in 0..VELOCITY_SWEEPS {
+    let (sweeps, tolerance) = if spin.is_some() {
+        (FRICTION_VELOCITY_SWEEPS, FRICTION_VELOCITY_TOLERANCE * ctx.fluid.gravity.length() * h)
+    } else {
+        (VELOCITY_SWEEPS, VELOCITY_TOLERANCE * ctx.fluid.gravity.length() * h)
+    };
+    for _ in 0..sweeps {
         let mut worst: f64 = 0.0;
-        for WallRow { k, n, impulse: acc } in walls.iter_mut() {
+        for WallRow { k, n, impulse: acc, friction } in walls.iter_mut() {
             let new = (*acc - vel[*k].dot(*n) / inv[*k]).max(0.0);
             let dv = (new - *acc) * inv[*k];
             vel[*k] += *n * dv;
             *acc = new;
             worst = worst.max(dv.abs());
+            if let (Some(fr), Some(s)) = (friction.as_mut(), spin.as_mut()) {
+                // The wall is `b`: the normal from the particle to it is `−n`.
+                worst = worst.max(fr.sweep((&mut vel, s), (*k, inv[*k]), None, -*n, *acc));
+            }
         }
-        for (c, PairRow { a, b, n, impulse: acc }) in contacts.iter().zip(rows.iter_mut()) {
+        for (c, PairRow { a, b, n, impulse: acc, friction }) in contacts.iter().zip(rows.iter_mut()) {
             let (a, b, n) = (*a, *b, *n);
             let (wa, wb) = (inv[a], inv[b]);
             if wa + wb == 0.0 {
@@ -339,6 +520,9 @@ fn solve_velocities<M: Motion>(
                 vel[b] += n * dj * wb;
                 *acc = new;
                 worst = worst.max(dj * (wa + wb)).max(-dj * (wa + wb));
+                if let (Some(fr), Some(s)) = (friction.as_mut(), spin.as_mut()) {
+                    worst = worst.max(fr.sweep((&mut vel, s), (a, wa), Some((b, wb)), n, *acc));
+                }
             }
         }
         if worst <= tolerance {
@@ -348,8 +532,14 @@ fn solve_velocities<M: Motion>(
     for (k, &i) in involved.iter().enumerate() {
         v[i] = vel[k];
     }
+    if let (Some(omega), Some(s)) = (omega, spin) {
+        for (k, &i) in involved.iter().enumerate() {
+            omega[i] = s.omega[k];
+        }
+    }
     for (c, row) in contacts.iter_mut().zip(rows) {
         c.force = row.impulse / h;
+        c.friction = row.friction.map(|f| (f.tangent / h, f.rolling / h));
     }
 }
 

@@ -29,14 +29,17 @@ pub mod rules;
 pub use detect::{ImpactLocation, Neighbours, locate_on_path};
 pub use event::{ContactEvent, Other, Outcome};
 pub use lasting::{LastingContact, PairHold};
-pub use rules::{BounceRule, Impact, PairBody, PairImpact, pair_impact, wall_impact};
+pub use rules::{
+    BounceRule, Friction, Impact, PairBody, PairImpact, Spinning, Tangential, pair_impact,
+    tangential_impulse, wall_impact,
+};
 
 pub(crate) use detect::{candidate_pairs, touches_wall};
 pub(crate) use in_step::resolve_in_step;
 pub(crate) use lasting::{keep_lasting, release_pairs};
 pub(crate) use release::release_at_wall;
 
-use crate::correlations::sphere_volume;
+use crate::correlations::{sphere_moment_of_inertia, sphere_volume};
 use crate::effects::Physics;
 use crate::flight::{Kernel, Motion};
 use crate::fluid::Fluid;
@@ -82,5 +85,12 @@ impl<'a, M: Motion> Ctx<'a, M> {
     /// Inertia (kg) of a particle of kind `k` and diameter `d`: `(ρp + C_M ρ) π d³/6`.
     pub fn inertia_of(&self, k: usize, d: f64) -> f64 {
         self.inertia_density[k] * sphere_volume(d)
+    }
+
+    /// Moment of inertia (kg m²) of a particle of kind `k` and diameter `d`: `(2/5) ρp Vp a²`,
+    /// without added mass (a sphere's added mass has no rotational part), for drops as for
+    /// solids (PHYSICS.md §9).
+    pub fn moment_of(&self, k: usize, d: f64) -> f64 {
+        sphere_moment_of_inertia(self.kinds[k].density, d)
     }
 }

@@ -1,7 +1,7 @@
 //! Stage 1 at walls: the contacts that end in the step. (A pair's hold ends in
 //! [`super::lasting::release_pairs`].)
 
-use crate::flight::{Kernel, Motion, Segment};
+use crate::flight::{Kernel, Motion, NO_MEMORY, Segment};
 use crate::particles::{NO_WALL, State};
 use crate::walls::Surface;
 use glam::DVec3;
@@ -21,7 +21,9 @@ pub(crate) fn release_at_wall<M: Motion>(
 ) -> Segment {
     match start.state {
         State::Free | State::PairHeld => start,
-        State::Held if start.t < t1 => Segment { v: v_release, state: State::Free, wall: NO_WALL, ..start },
+        State::Held if start.t < t1 => {
+            Segment { v: v_release, state: State::Free, wall: NO_WALL, memory: NO_MEMORY, ..start }
+        }
         State::Held => start,
         State::Resting => {
             let n = flight.walls[start.wall as usize].shape.gap(start.x, 0.5 * d).normal;
@@ -32,7 +34,7 @@ pub(crate) fn release_at_wall<M: Motion>(
             // "Points away" beyond round-off: on a side wall gravity is tangent, and the sign
             // of a zero would free and re-deposit the particle at every step.
             if a.dot(n) > 1e-9 * a.length() {
-                Segment { state: State::Free, wall: NO_WALL, ..start }
+                Segment { state: State::Free, wall: NO_WALL, memory: NO_MEMORY, ..start }
             } else {
                 start
             }

@@ -11,6 +11,7 @@ mod drag_stiffness;
 mod faddeeva;
 mod history;
 mod restitution;
+mod rotation;
 mod stokes;
 mod terminal;
 mod wall_hindrance;
@@ -26,12 +27,13 @@ pub use history::{
     history_settling_velocity,
 };
 pub use restitution::{Restitution, restitution};
+pub use rotation::{rotational_stokes_torque, sphere_moment_of_inertia, spin_relaxation_rate_d2};
 pub use stokes::{pair_stokes_number, relaxation_time, stokes_number};
 pub use terminal::{TerminalVelocity, terminal_velocity};
 pub use wall_hindrance::{
     ADDED_MASS_CONTACT, NORMAL_GAP_CONSTANT, PARALLEL_GAP_CONSTANT, added_mass_normal,
-    added_mass_normal_exact, brenner_normal_exact, faxen_parallel, oneill_parallel_exact, wall_factor_normal,
-    wall_factor_parallel,
+    added_mass_normal_and_slope, added_mass_normal_exact, brenner_normal_exact, faxen_parallel,
+    oneill_parallel_exact, wall_factor_normal, wall_factor_parallel,
 };
 
 /// Added-mass coefficient of a sphere far from walls, `C_M∞ = 1/2` (L06 §2).

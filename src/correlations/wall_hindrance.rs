@@ -392,37 +392,64 @@ pub fn added_mass_normal_exact(gap: f64) -> f64 {
 /// decade from 1e-8 to 1e7 by `added_mass_fast_form_within_4e_8_of_series`. Dimensionless;
 /// negative gaps are treated as contact.
 pub fn added_mass_normal(gap: f64) -> f64 {
+    added_mass_normal_and_slope(gap).0
+}
+
+/// Largest gap ratio at which [`added_mass_normal`] adds its tail: `α · 12.5 < 20`, i.e.
+/// `ε < cosh 1.6 − 1`. Beyond it the tail is below 1e-25 of the sum, and `α` (a logarithm)
+/// need not be computed at all.
+const ADDED_MASS_TAIL_GAP: f64 = 1.577_464_471_194_885_3;
+
+/// [`added_mass_normal`] and its derivative `dC_M/dε`, in one pass: the derivative of the
+/// sum for `n = 2 … 12` from the recurrence's own derivative (`U′_{n+1} = 2U_n + 2x U′_n −
+/// U′_{n−1}`, each term contributing `−3 U′/U⁴`), and the tail's by a central difference in
+/// `α` (relative step 1e-6, so about 1e-10 of the tail; `dα/dε = 1/sinh α`). The value is
+/// computed by the same operations as without the derivative. The slope is −∞ at contact
+/// (`C_M ≈ C_M(0) − c ε ln(1/ε)`), which the force balance never asks for (contact is at the
+/// roughness, `ε > 0`).
+pub fn added_mass_normal_and_slope(gap: f64) -> (f64, f64) {
     const N: usize = 12;
     let gap = gap.max(0.0);
     if gap >= 1e6 {
         let s = 1.0 / (1.0 + gap);
-        return 0.5 + 0.1875 * s * s * s;
+        return (0.5 + 0.1875 * s * s * s, -0.5625 * s * s * s * s);
     }
     let x = 1.0 + gap;
     let (mut u_prev, mut u) = (1.0, 2.0 * x);
-    let mut sum = 0.0;
+    let (mut du_prev, mut du) = (0.0, 2.0);
+    let (mut sum, mut slope) = (0.0, 0.0);
     for _ in 2..=N {
         sum += 1.0 / (u * u * u);
+        let u2 = u * u;
+        slope -= 3.0 * du / (u2 * u2);
         let next = 2.0 * x * u - u_prev;
-        u_prev = u;
-        u = next;
+        let dnext = 2.0 * u + 2.0 * x * du - du_prev;
+        (u_prev, u, du_prev, du) = (u, next, du, dnext);
     }
     let y = N as f64 + 0.5;
+    // The Euler–Maclaurin tail at `α`, with `sinh α` given (the value's own is from the gap).
+    let tail = |alpha: f64, sinh_a: f64| {
+        let v = alpha * y;
+        let (sh, ch) = (v.sinh(), v.cosh());
+        let tail_integral = 0.5 * ch / (sh * sh) + 0.5 * (0.5 * v).tanh().ln();
+        let s3 = sinh_a * sinh_a * sinh_a;
+        let derivative = -3.0 * alpha * ch * s3 / (sh * sh * sh * sh);
+        s3 / alpha * tail_integral + derivative / 24.0
+    };
     if gap == 0.0 {
         // Σ_{n>N} 1/n³ by the same rule.
         sum += 0.5 / (y * y) - 0.125 / (y * y * y * y);
-    } else {
+        slope = f64::NEG_INFINITY;
+    } else if gap < ADDED_MASS_TAIL_GAP {
         let (alpha, sinh_a) = bispherical_alpha(gap);
-        let v = alpha * y;
-        if v < 20.0 {
-            let (sh, ch) = (v.sinh(), v.cosh());
-            let tail_integral = 0.5 * ch / (sh * sh) + 0.5 * (0.5 * v).tanh().ln();
-            let s3 = sinh_a * sinh_a * sinh_a;
-            let derivative = -3.0 * alpha * ch * s3 / (sh * sh * sh * sh);
-            sum += s3 / alpha * tail_integral + derivative / 24.0;
+        if alpha * y < 20.0 {
+            sum += tail(alpha, sinh_a);
+            let d = 1e-6 * alpha;
+            let (a1, a0) = (alpha + d, alpha - d);
+            slope += (tail(a1, a1.sinh()) - tail(a0, a0.sinh())) / ((a1 - a0) * sinh_a);
         }
     }
-    0.5 + 1.5 * sum
+    (0.5 + 1.5 * sum, 1.5 * slope)
 }
 
 #[cfg(test)]

@@ -13,6 +13,8 @@ mod buoyancy;
 mod contact_time;
 mod drag;
 mod gravity;
+mod history;
+mod rotation;
 mod wall_lubrication;
 
 pub use added_mass::AddedMass;
@@ -20,6 +22,8 @@ pub use buoyancy::Buoyancy;
 pub use contact_time::ContactTime;
 pub use drag::{Drag, DragLaw, DragLawKind, NoDrag, SchillerNaumann, Stokes};
 pub use gravity::Gravity;
+pub use history::{History, MemoryKernel, SHORTEST_LAG, history_rate_times_radius};
+pub use rotation::Rotation;
 pub use wall_lubrication::{RANGE as LUBRICATION_RANGE, WallExcess, WallLubrication, taper, wall_excess};
 
 use crate::fluid::Fluid;
@@ -28,7 +32,7 @@ use glam::DVec3;
 
 /// Names accepted in a scene's `[effects]` table, in the order the docs list them.
 pub const EFFECT_NAMES: &[&str] =
-    &["gravity", "buoyancy", "drag", "added_mass", "contact_time", "wall_lubrication"];
+    &["gravity", "buoyancy", "drag", "added_mass", "contact_time", "wall_lubrication", "history", "rotation"];
 
 /// One physical effect: adds its part to the scene's [`Physics`].
 pub trait Effect: std::fmt::Debug + Send + Sync {
@@ -69,6 +73,8 @@ pub fn build_effect(name: &str, table: toml::Value) -> Result<Box<dyn Effect>, E
         "added_mass" => Box::new(parse::<AddedMass>(table)?.validated()?),
         "contact_time" => Box::new(parse::<ContactTime>(table)?),
         "wall_lubrication" => Box::new(parse::<WallLubrication>(table)?),
+        "history" => Box::new(parse::<History>(table)?.validated()?),
+        "rotation" => Box::new(parse::<Rotation>(table)?),
         other => {
             return Err(EffectError::new(
                 "",
@@ -102,6 +108,12 @@ pub struct Physics {
     /// With the wall-lubrication effect **[ext]**: the drag and added mass near a wall
     /// (PHYSICS.md §8), evaluated by the flight kernel for particles near a wall only.
     pub wall_lubrication: bool,
+    /// With the history effect **[ext]**: the memory kernel of the Basset–Boussinesq force
+    /// (PHYSICS.md §10), integrated by the flight kernel with one memory per particle.
+    pub history: Option<MemoryKernel>,
+    /// With rotation **[ext]** (the effect, or any friction key in the scene): particles spin,
+    /// the fluid's torque relaxes the spin, contacts with friction change it (PHYSICS.md §9).
+    pub rotation: bool,
     /// Names of the effects, in the order they were applied.
     pub effect_names: Vec<&'static str>,
 }
@@ -118,6 +130,8 @@ impl Physics {
             added_mass_coefficient: 0.0,
             hold_at_contact: false,
             wall_lubrication: false,
+            history: None,
+            rotation: false,
             effect_names: Vec::new(),
         };
         for effect in effects {

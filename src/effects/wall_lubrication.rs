@@ -2,7 +2,7 @@
 //! (PHYSICS.md §8).
 
 use super::{Effect, Physics};
-use crate::correlations::{added_mass_normal, wall_factor_normal, wall_factor_parallel};
+use crate::correlations::{added_mass_normal_and_slope, wall_factor_normal, wall_factor_parallel};
 use crate::fluid::Fluid;
 use crate::particles::ParticleKind;
 use serde::Deserialize;
@@ -72,16 +72,22 @@ pub fn wall_excess(eps: f64) -> WallExcess {
     if w == 0.0 {
         return WallExcess { normal: 0.0, parallel: 0.0, added_mass: 0.0, added_mass_slope: 0.0 };
     }
-    let cm = |e: f64| (added_mass_normal(e) - 0.5) * taper(e);
-    // Central difference, one-sided near 0: C_M is smooth in eps (the taper is C¹).
-    let step = 1e-4 * eps.max(1e-3);
-    let slope =
-        (cm(eps + step) - cm((eps - step).max(0.5 * eps))) / (eps + step - (eps - step).max(0.5 * eps));
+    let (cm, cm_slope) = added_mass_normal_and_slope(eps);
     WallExcess {
         normal: (wall_factor_normal(eps) - 1.0) * w,
         parallel: (wall_factor_parallel(eps) - 1.0) * w,
-        added_mass: cm(eps),
-        added_mass_slope: slope,
+        added_mass: (cm - 0.5) * w,
+        added_mass_slope: cm_slope * w + (cm - 0.5) * taper_slope(eps),
+    }
+}
+
+/// `d/d eps` of [`taper`].
+fn taper_slope(eps: f64) -> f64 {
+    if eps <= TAPER_START || eps >= RANGE {
+        0.0
+    } else {
+        let s = (RANGE - eps) / (RANGE - TAPER_START);
+        -6.0 * s * (1.0 - s) / (RANGE - TAPER_START)
     }
 }
 
@@ -96,6 +102,18 @@ mod tests {
         let (a, b) = (wall_excess(TAPER_START - 1e-9), wall_excess(TAPER_START + 1e-9));
         assert!((a.normal - b.normal).abs() < 1e-8);
         assert!((wall_excess(RANGE - 1e-9).normal).abs() < 1e-8);
+    }
+
+    #[test]
+    fn added_mass_slope_is_the_derivative_of_the_tapered_series() {
+        use crate::correlations::added_mass_normal_exact;
+        let cm = |e: f64| (added_mass_normal_exact(e) - 0.5) * taper(e);
+        for eps in [1e-6, 1e-4, 1e-2, 0.3, 1.0, 1.5, 1.6, 3.0, 6.0, 8.0, 9.9] {
+            let d = 1e-5 * eps;
+            let fd = (cm(eps + d) - cm(eps - d)) / (2.0 * d);
+            let slope = wall_excess(eps).added_mass_slope;
+            assert!((slope - fd).abs() <= 1e-6 * fd.abs() + 1e-12, "eps {eps}: {slope} vs {fd}");
+        }
     }
 
     #[test]

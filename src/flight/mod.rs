@@ -13,10 +13,13 @@
 
 mod lubricated;
 mod motion;
+mod remembered;
+mod spin;
 
 pub use motion::{Motion, Mover, WithMotion, dispatch};
+pub use remembered::StepCoefficients;
 
-use crate::effects::Physics;
+use crate::effects::{MemoryKernel, Physics, history_rate_times_radius};
 use crate::fluid::Fluid;
 use crate::integrate::{ForceField, Tangential};
 use crate::numeric::lanes::{DVec3x4, F64x4, LANES, each};
@@ -40,9 +43,23 @@ pub struct Kernel<'a, M> {
     kind_accel: Vec<DVec3>,
     kind_drag_rate: Vec<f64>,
     re_rate: f64,
-    /// With the wall-lubrication effect only.
-    lubrication: Option<lubricated::Lubrication>,
+    /// With an effect that is not one linearised force (wall lubrication, history) only: one
+    /// field, so that a scene without them tests one `None` per flight, as before they existed.
+    nonlinear: Option<NonLinear<'a>>,
+    /// With rotation only (PHYSICS.md §9).
+    spin: Option<spin::Spin>,
 }
+
+/// The effects the free flight cannot fold into the linearised force; a scene has at most one
+/// (the loader refuses both together).
+enum NonLinear<'a> {
+    Lubrication(lubricated::Lubrication),
+    Memory(remembered::Memory<'a>),
+}
+
+/// The segment starts with an empty memory (after a contact or a release; PHYSICS.md §10): the
+/// value of [`Segment::memory`] that names no particle.
+pub const NO_MEMORY: u32 = u32::MAX;
 
 impl<'a, M: Motion> Kernel<'a, M> {
     /// The kernel of a step: `motion` from [`dispatch`], the effects' `physics` per kind.
@@ -55,14 +72,16 @@ impl<'a, M: Motion> Kernel<'a, M> {
     ) -> Self {
         let n = physics.kinds.len();
         let mu = fluid.viscosity;
-        let lubrication =
-            (physics.wall_lubrication && physics.drag.is_some()).then(|| lubricated::Lubrication {
+        let nonlinear = (physics.wall_lubrication && physics.drag.is_some()).then(|| {
+            NonLinear::Lubrication(lubricated::Lubrication {
                 kind_roughness: kinds.iter().map(|k| k.roughness).collect(),
                 kind_inertia: physics.kinds.iter().map(|t| t.inertia_density).collect(),
                 added_density: if physics.has("added_mass") { fluid.density } else { 0.0 },
-            });
+            })
+        });
         Kernel {
-            lubrication,
+            nonlinear,
+            spin: spin::Spin::new(physics, fluid, kinds),
             motion,
             walls,
             kind_accel: (0..n).map(|k| physics.body_acceleration(k)).collect(),
@@ -85,10 +104,68 @@ impl<'a, M: Motion> Kernel<'a, M> {
         self.motion.field(accel, drag_rate / (d * d), d * self.re_rate)
     }
 
-    /// Whether the scene has the wall-lubrication effect (with drag): every particle then goes
-    /// through [`Kernel::fly`], which looks for a wall near it.
+    /// Whether the scene has the wall-lubrication effect (with drag): a particle that may come
+    /// within its range of a wall then goes through [`Kernel::fly`], which looks for the wall.
     pub fn lubricated(&self) -> bool {
-        self.lubrication.is_some()
+        matches!(self.nonlinear, Some(NonLinear::Lubrication(_)))
+    }
+
+    /// With the history effect: the kernel flies free particles with their memory, read from
+    /// `start` (the memory at the start of the step, [`crate::particles::Particles::memory`]);
+    /// `step` is the step's length `t1 − t0` (s), whose per-mode coefficients are computed once
+    /// here. Without the effect, the kernel is returned unchanged.
+    pub fn remembering(
+        mut self,
+        physics: &Physics,
+        fluid: &Fluid,
+        start: &'a [DVec3],
+        kernel: Option<&'a MemoryKernel>,
+        step: f64,
+    ) -> Self {
+        if let Some(kernel) = kernel {
+            self.nonlinear = Some(NonLinear::Memory(remembered::Memory {
+                kind_rate: physics
+                    .kinds
+                    .iter()
+                    .map(|t| history_rate_times_radius(fluid, t.inertia_density))
+                    .collect(),
+                step: StepCoefficients::new(kernel, step),
+                kernel,
+                start,
+            }));
+        }
+        self
+    }
+
+    /// Modes per particle when the kernel flies with memory.
+    pub fn memory_modes(&self) -> Option<usize> {
+        match &self.nonlinear {
+            Some(NonLinear::Memory(m)) => Some(m.kernel.modes()),
+            _ => None,
+        }
+    }
+
+    /// [`Kernel::fly`] that also writes the memory at the segment's end into `out` (one vector
+    /// per mode): zero unless the particle flies free (held and resting particles remember
+    /// nothing). Only with the history effect; `out` is left alone otherwise.
+    pub fn fly_remembering(
+        &self,
+        field: &M::Field<DVec3>,
+        (k, r): (usize, f64),
+        seg: &Segment,
+        h: f64,
+        out: &mut [DVec3],
+    ) -> Flight {
+        match (&self.nonlinear, seg.state) {
+            (Some(NonLinear::Memory(mem)), State::Free | State::PairHeld) => {
+                let (x, v) = self.remembered_flight(mem, field, (k, r), seg, h, Some(out));
+                Flight { x, v, state: seg.state }
+            }
+            _ => {
+                out.fill(DVec3::ZERO);
+                self.fly(field, (k, r), seg, h)
+            }
+        }
     }
 
     /// Moves one segment on by `h` (s) under `field`, for a particle of kind `k` and radius `r`
@@ -100,9 +177,14 @@ impl<'a, M: Motion> Kernel<'a, M> {
             State::Held => Flight { x: seg.x, v: seg.v, state: State::Held },
             // A pair-held particle flies; the lasting-contact stage keeps the pair together.
             State::Free | State::PairHeld => {
-                let near = match &self.lubrication {
+                let near = match &self.nonlinear {
                     None => None,
-                    Some(lub) => self.lubricated_flight(lub, field, (k, r), (seg.x, seg.v), h),
+                    Some(NonLinear::Lubrication(lub)) => {
+                        self.lubricated_flight(lub, field, (k, r), (seg.x, seg.v), h)
+                    }
+                    Some(NonLinear::Memory(mem)) => {
+                        Some(self.remembered_flight(mem, field, (k, r), seg, h, None))
+                    }
                 };
                 let (x, v) = near.unwrap_or_else(|| self.motion.advance(field, seg.x, seg.v, h));
                 Flight { x, v, state: seg.state }
@@ -135,6 +217,17 @@ impl<'a, M: Motion> Kernel<'a, M> {
         self.fly(&self.field(k, d), (k, 0.5 * d), &start, t1 - start.t)
     }
 
+    /// [`Kernel::free_flight`] writing the memory at `t1` into `out` ([`Kernel::fly_remembering`]).
+    pub fn free_flight_remembering(
+        &self,
+        start: Segment,
+        (k, d): (usize, f64),
+        t1: f64,
+        out: &mut [DVec3],
+    ) -> Flight {
+        self.fly_remembering(&self.field(k, d), (k, 0.5 * d), &start, t1 - start.t, out)
+    }
+
     /// The net acceleration (m/s²) of a particle of kind `k` and diameter `d` at `x` moving at
     /// `v` (the force balance alone, no contact).
     pub fn acceleration(&self, (k, d): (usize, f64), x: DVec3, v: DVec3) -> DVec3 {
@@ -156,6 +249,10 @@ pub struct Segment {
     pub state: State,
     /// The wall of a held or resting particle.
     pub wall: u32,
+    /// With the history effect: the particle whose memory at the start of the step this
+    /// segment continues (its index), or [`NO_MEMORY`] when the segment starts with an empty
+    /// memory (after a contact or a release). Unused without the effect.
+    pub memory: u32,
 }
 
 /// Where a segment ends.

@@ -24,18 +24,30 @@ fn finish(w: &mut Writer, path: &Path) -> Result<(), OutputError> {
     w.flush().and_then(|()| w.get_ref().sync_data()).map_err(|e| OutputError::write(path, e))
 }
 
-/// `trajectories.csv`: `t,id,x,y,z,vx,vy,vz,state`, SI units, one row per particle per frame.
+/// `trajectories.csv`: `t,id,x,y,z,vx,vy,vz,state`, SI units, one row per particle per frame;
+/// in a scene with rotation also `wx,wy,wz`, the angular velocity (rad/s), after `state`.
 pub struct TrajectoryCsv {
     path: PathBuf,
     w: Writer,
+    rotation: bool,
 }
 
 impl TrajectoryCsv {
-    /// Creates the file and writes the header.
+    /// Creates the file and writes the header (without the spin columns).
     pub fn create(path: impl Into<PathBuf>) -> Result<Self, OutputError> {
+        Self::create_for(path, false)
+    }
+
+    /// Creates the file and writes the header, with the spin columns when `rotation` (the
+    /// scene's `setup.physics.rotation`): a scene without rotation keeps the file it had.
+    pub fn create_for(path: impl Into<PathBuf>, rotation: bool) -> Result<Self, OutputError> {
         let path = path.into();
-        let w = create(&path, &["t", "id", "x", "y", "z", "vx", "vy", "vz", "state"])?;
-        Ok(TrajectoryCsv { path, w })
+        let mut header = vec!["t", "id", "x", "y", "z", "vx", "vy", "vz", "state"];
+        if rotation {
+            header.extend(["wx", "wy", "wz"]);
+        }
+        let w = create(&path, &header)?;
+        Ok(TrajectoryCsv { path, w, rotation })
     }
 }
 
@@ -44,9 +56,14 @@ impl Sink for TrajectoryCsv {
         let p = &sim.world.particles;
         for i in 0..p.len() {
             let (x, v) = (p.pos[i], p.vel[i]);
-            self.w
-                .serialize((sim.world.time, p.id[i], x.x, x.y, x.z, v.x, v.y, v.z, p.state[i].name()))
-                .map_err(|e| OutputError::write(&self.path, e))?;
+            let row = (sim.world.time, p.id[i], x.x, x.y, x.z, v.x, v.y, v.z, p.state[i].name());
+            let written = if self.rotation {
+                let w = p.omega[i];
+                self.w.serialize((row, w.x, w.y, w.z))
+            } else {
+                self.w.serialize(row)
+            };
+            written.map_err(|e| OutputError::write(&self.path, e))?;
         }
         self.w.flush().map_err(|e| OutputError::write(&self.path, e))
     }
@@ -56,19 +73,31 @@ impl Sink for TrajectoryCsv {
     }
 }
 
-/// `events.csv`: `t,id,other,kind,normal_speed,st,eps,contact_time,outcome`, one row per contact.
+/// `events.csv`: `t,id,other,kind,normal_speed,st,eps,contact_time,outcome`, one row per contact;
+/// in a scene with rotation also `tangential_speed` (m/s) and `incidence_angle` (rad), after
+/// `outcome`.
 pub struct EventCsv {
     path: PathBuf,
     w: Writer,
+    rotation: bool,
 }
 
 impl EventCsv {
-    /// Creates the file and writes the header.
+    /// Creates the file and writes the header (without the tangential columns).
     pub fn create(path: impl Into<PathBuf>) -> Result<Self, OutputError> {
+        Self::create_for(path, false)
+    }
+
+    /// Creates the file and writes the header, with the tangential columns when `rotation`.
+    pub fn create_for(path: impl Into<PathBuf>, rotation: bool) -> Result<Self, OutputError> {
         let path = path.into();
-        let header = ["t", "id", "other", "kind", "normal_speed", "st", "eps", "contact_time", "outcome"];
+        let mut header =
+            vec!["t", "id", "other", "kind", "normal_speed", "st", "eps", "contact_time", "outcome"];
+        if rotation {
+            header.extend(["tangential_speed", "incidence_angle"]);
+        }
         let w = create(&path, &header)?;
-        Ok(EventCsv { path, w })
+        Ok(EventCsv { path, w, rotation })
     }
 }
 
@@ -81,19 +110,14 @@ impl Sink for EventCsv {
     fn events(&mut self, sim: &Simulation, events: &[ContactEvent]) -> Result<(), OutputError> {
         for e in events {
             let (other, kind) = sim.setup.name_of(e.other);
-            self.w
-                .serialize((
-                    e.time,
-                    e.id,
-                    other,
-                    kind,
-                    e.normal_speed,
-                    e.st,
-                    e.eps,
-                    e.contact_time,
-                    e.outcome.name(),
-                ))
-                .map_err(|err| OutputError::write(&self.path, err))?;
+            let row =
+                (e.time, e.id, other, kind, e.normal_speed, e.st, e.eps, e.contact_time, e.outcome.name());
+            let written = if self.rotation {
+                self.w.serialize((row, e.tangential_speed, e.incidence_angle))
+            } else {
+                self.w.serialize(row)
+            };
+            written.map_err(|err| OutputError::write(&self.path, err))?;
         }
         Ok(())
     }
@@ -102,9 +126,10 @@ impl Sink for EventCsv {
     fn lost(&mut self, _sim: &Simulation, lost: &[LostParticle]) -> Result<(), OutputError> {
         let none: Option<f64> = None;
         for l in lost {
-            self.w
-                .serialize((l.time, l.id, "", "removed", none, none, none, none, "non_finite"))
-                .map_err(|err| OutputError::write(&self.path, err))?;
+            let row = (l.time, l.id, "", "removed", none, none, none, none, "non_finite");
+            let written =
+                if self.rotation { self.w.serialize((row, none, none)) } else { self.w.serialize(row) };
+            written.map_err(|err| OutputError::write(&self.path, err))?;
         }
         Ok(())
     }

@@ -3,14 +3,16 @@
 //! Channels (log time = simulated time in nanoseconds from 0):
 //! - `/particles`: `foxglove.PointCloud` per frame, fields `x y z` (float64, m), `id` (uint32),
 //!   `diameter` (float64, m), `speed` (float64, m/s), `state` (uint8: 0 free, 1 held,
-//!   2 resting), `kind` (uint16, index into the scene's kinds);
+//!   2 resting), `kind` (uint16, index into the scene's kinds); in a scene with rotation also
+//!   `wx wy wz` (float64, rad/s), the angular velocity;
 //! - `/walls`: `foxglove.SceneUpdate` — entity `walls`, once at t = 0, on a topic of its own:
 //!   a viewer that seeks shows the latest message of each topic before the seek time, so walls
 //!   sharing a topic with the per-frame spheres were lost at the first seek; alone on their
 //!   topic, the message at t = 0 is the latest one at every time, and costs nothing to repeat;
 //! - `/scene`: `foxglove.SceneUpdate` — entity `particles` (spheres at true diameter coloured
 //!   by state) per frame while the particle count is at most [`McapOptions::max_spheres`];
-//! - `/events`: JSON (`jsonschema`), one message per contact with the columns of `events.csv`.
+//! - `/events`: JSON (`jsonschema`), one message per contact with the columns of `events.csv`
+//!   (in a scene with rotation, `tangential_speed` and `incidence_angle` too).
 //!
 //! Metadata records `scene` (`path`, `source`: the scene file's text) and `wetbounce`
 //! (`version`), so every result carries its inputs.
@@ -54,6 +56,8 @@ pub const FRAME_ID: &str = "world";
 
 /// Bytes per point of `/particles`: x, y, z, id, diameter, speed, state, kind.
 const POINT_STRIDE: u32 = 8 * 3 + 4 + 8 + 8 + 1 + 2;
+/// Bytes per point of `/particles` in a scene with rotation: the above, then wx, wy, wz.
+const SPIN_POINT_STRIDE: u32 = POINT_STRIDE + 8 * 3;
 
 /// JSON schema of an `/events` message: the columns of `events.csv`. Non-finite numbers (an
 /// infinite St in vacuum) are written as `null`, which JSON needs. A particle taken out because
@@ -76,6 +80,21 @@ const EVENT_SCHEMA: &str = r#"{
   },
   "required": ["t", "id", "other", "kind", "normal_speed", "st", "eps", "contact_time", "outcome"]
 }"#;
+
+/// The two properties [`EVENT_SCHEMA`] gains in a scene with rotation, as in `events.csv`.
+const SPIN_EVENT_PROPERTIES: &str = r#",
+    "tangential_speed": {"type": ["number", "null"], "description": "contact point's tangential speed at impact (m/s)"},
+    "incidence_angle": {"type": ["number", "null"], "description": "angle of the velocity from the normal (rad)"}"#;
+
+/// [`EVENT_SCHEMA`], with [`SPIN_EVENT_PROPERTIES`] after its last property when `rotation`.
+fn event_schema(rotation: bool) -> String {
+    let last = r#""enum": ["held", "bounced", "deposited", "non_finite"]}"#;
+    if rotation {
+        EVENT_SCHEMA.replacen(last, &format!("{last}{SPIN_EVENT_PROPERTIES}"), 1)
+    } else {
+        EVENT_SCHEMA.to_string()
+    }
+}
 
 /// Settings of the MCAP sink.
 #[derive(Debug, Clone)]
@@ -111,6 +130,7 @@ pub struct McapSink {
     spheres_shown: bool,
     json: Vec<u8>,
     order: Vec<usize>,
+    rotation: bool,
 }
 
 /// The file's first OS error if there was one, else `e`.
@@ -149,8 +169,19 @@ fn field(name: &str, offset: u32, ty: NumericType) -> PackedElementField {
 }
 
 impl McapSink {
-    /// Creates the file at `path` and writes the metadata.
+    /// Creates the file at `path` and writes the metadata (no spin fields).
     pub fn create(path: impl Into<PathBuf>, options: McapOptions) -> Result<Self, OutputError> {
+        Self::create_for(path, options, false)
+    }
+
+    /// Creates the file at `path` and writes the metadata; with `rotation` (the scene's
+    /// `setup.physics.rotation`) the particles carry their spin and the events their tangential
+    /// speed and incidence angle. A scene without rotation keeps the file it had.
+    pub fn create_for(
+        path: impl Into<PathBuf>,
+        options: McapOptions,
+        rotation: bool,
+    ) -> Result<Self, OutputError> {
         let path = path.into();
         let file = OutputFile::create(&path, 1 << 16)?;
         let first_error = file.first_error();
@@ -179,7 +210,7 @@ impl McapSink {
         let events = ChannelBuilder::new(EVENTS_TOPIC)
             .context(&ctx)
             .message_encoding("json")
-            .schema(Schema::new("wetbounce.ContactEvent", "jsonschema", EVENT_SCHEMA.as_bytes().to_vec()))
+            .schema(Schema::new("wetbounce.ContactEvent", "jsonschema", event_schema(rotation).into_bytes()))
             .build_raw()
             .map_err(|e| err(&e))?;
         // The header and metadata reach the file now: a file that cannot be written fails before
@@ -200,6 +231,7 @@ impl McapSink {
             spheres_shown: false,
             json: Vec::new(),
             order: Vec::new(),
+            rotation,
         })
     }
 
@@ -267,7 +299,8 @@ impl McapSink {
 
     fn write_points(&self, sim: &Simulation) {
         let p = &sim.world.particles;
-        let mut data = Vec::with_capacity(p.len() * POINT_STRIDE as usize);
+        let stride = if self.rotation { SPIN_POINT_STRIDE } else { POINT_STRIDE };
+        let mut data = Vec::with_capacity(p.len() * stride as usize);
         for i in 0..p.len() {
             let x = p.pos[i];
             data.extend_from_slice(&x.x.to_le_bytes());
@@ -278,22 +311,35 @@ impl McapSink {
             data.extend_from_slice(&p.vel[i].length().to_le_bytes());
             data.push(p.state[i].code());
             data.extend_from_slice(&p.kind[i].to_le_bytes());
+            if self.rotation {
+                for w in p.omega[i].to_array() {
+                    data.extend_from_slice(&w.to_le_bytes());
+                }
+            }
+        }
+        let mut fields = vec![
+            field("x", 0, NumericType::Float64),
+            field("y", 8, NumericType::Float64),
+            field("z", 16, NumericType::Float64),
+            field("id", 24, NumericType::Uint32),
+            field("diameter", 28, NumericType::Float64),
+            field("speed", 36, NumericType::Float64),
+            field("state", 44, NumericType::Uint8),
+            field("kind", 45, NumericType::Uint16),
+        ];
+        if self.rotation {
+            fields.extend([
+                field("wx", POINT_STRIDE, NumericType::Float64),
+                field("wy", POINT_STRIDE + 8, NumericType::Float64),
+                field("wz", POINT_STRIDE + 16, NumericType::Float64),
+            ]);
         }
         let cloud = PointCloud {
             timestamp: Some(stamp(sim.world.time)),
             frame_id: FRAME_ID.into(),
             pose: Some(pose(DVec3::ZERO, DQuat::IDENTITY)),
-            point_stride: POINT_STRIDE,
-            fields: vec![
-                field("x", 0, NumericType::Float64),
-                field("y", 8, NumericType::Float64),
-                field("z", 16, NumericType::Float64),
-                field("id", 24, NumericType::Uint32),
-                field("diameter", 28, NumericType::Float64),
-                field("speed", 36, NumericType::Float64),
-                field("state", 44, NumericType::Uint8),
-                field("kind", 45, NumericType::Uint16),
-            ],
+            point_stride: stride,
+            fields,
             data: data.into(),
         };
         self.particles.log_with_time(&cloud, log_time_ns(sim.world.time));
@@ -342,6 +388,11 @@ struct EventMessage<'a> {
     eps: Option<f64>,
     contact_time: Option<f64>,
     outcome: &'a str,
+    // Left out of the message (not `null`) in a scene without rotation, which keeps its bytes.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    tangential_speed: Option<Option<f64>>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    incidence_angle: Option<Option<f64>>,
 }
 
 /// A number, or `null` for a non-finite one (JSON has no infinity).
@@ -390,6 +441,8 @@ impl Sink for McapSink {
                 eps: number(e.eps),
                 contact_time: number(e.contact_time),
                 outcome: e.outcome.name(),
+                tangential_speed: self.rotation.then(|| number(e.tangential_speed)),
+                incidence_angle: self.rotation.then(|| number(e.incidence_angle)),
             };
             self.json.clear();
             serde_json::to_writer(&mut self.json, &message)
@@ -413,6 +466,8 @@ impl Sink for McapSink {
                 eps: None,
                 contact_time: None,
                 outcome: "non_finite",
+                tangential_speed: self.rotation.then_some(None),
+                incidence_angle: self.rotation.then_some(None),
             };
             self.json.clear();
             serde_json::to_writer(&mut self.json, &message)
@@ -432,5 +487,19 @@ impl Sink for McapSink {
         }
         let mut file = w.close().map_err(|e| self.fail(&e))?;
         file.sync().map_err(|e| self.fail(&e))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_rotation_event_schema_is_json_with_two_more_properties() {
+        let v: serde_json::Value = serde_json::from_str(&event_schema(true)).unwrap();
+        assert!(
+            v["properties"]["tangential_speed"].is_object() && v["properties"]["incidence_angle"].is_object()
+        );
+        assert_eq!(event_schema(false), EVENT_SCHEMA);
     }
 }

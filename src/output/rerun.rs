@@ -112,6 +112,17 @@ impl Sink for RerunSink {
                 .with_labels(p.id.iter().map(|id| id.to_string()))
                 .with_show_labels(false),
         )?;
+        if sim.setup.physics.rotation {
+            // The spin as an arrow from each centre along its axis, as long as the surface moves
+            // in 10 ms (|ω| a × 0.01 s): a length in the scene's units, which a bare ω is not.
+            self.log(
+                "particles/angular_velocity",
+                &rerun::Arrows3D::from_vectors(
+                    p.omega.iter().zip(&p.diameter).map(|(w, d)| f3(*w * (0.5 * d) * 0.01)),
+                )
+                .with_origins(p.pos.iter().map(|x| f3(*x))),
+            )?;
+        }
         // The frame, and the events since the last one, reach the file before the run goes on
         // (the recording is written by a thread of rerun's; this waits for it).
         self.rec()?.flush_blocking().map_err(|e| OutputError::write(&self.path, e))

@@ -106,21 +106,26 @@ impl RunSummary {
     pub fn to_json(&self) -> serde_json::Value {
         use serde_json::json;
         let num = |x: f64| if x.is_finite() { json!(x) } else { serde_json::Value::Null };
+        // One wall's impacts, or all of them, with their count under `count`.
+        let tally = |st: &ImpactTally, count: &str| {
+            let mut m = serde_json::Map::new();
+            m.insert(count.into(), json!(st.impacts()));
+            m.insert("held".into(), json!(st.held));
+            m.insert("bounced".into(), json!(st.bounced));
+            m.insert("deposited".into(), json!(st.deposited));
+            m.insert("mean_st".into(), num(st.mean_st()));
+            m.insert("mean_eps".into(), num(st.mean_eps()));
+            m
+        };
         let s = &self.stats.all;
         let walls: Vec<_> = self
             .walls
             .iter()
             .map(|(name, st)| {
-                json!({
-                    "name": name,
-                    "impacts": st.impacts(),
-                    "held": st.held,
-                    "bounced": st.bounced,
-                    "deposited": st.deposited,
-                    "mean_st": num(st.mean_st()),
-                    "mean_eps": num(st.mean_eps()),
-                    "held_time_s": st.held_time_s,
-                })
+                let mut w = tally(st, "impacts");
+                w.insert("name".into(), json!(name));
+                w.insert("held_time_s".into(), json!(st.held_time_s));
+                w
             })
             .collect();
         let outlets: Vec<_> =
@@ -148,14 +153,7 @@ impl RunSummary {
                 "injected": self.injected,
                 "injection_skipped": self.injection_skipped,
             },
-            "impacts": {
-                "total": s.impacts(),
-                "held": s.held,
-                "bounced": s.bounced,
-                "deposited": s.deposited,
-                "mean_st": num(s.mean_st()),
-                "mean_eps": num(s.mean_eps()),
-            },
+            "impacts": tally(s, "total"),
             "walls": walls,
             "outlets": outlets,
             "injectors": injectors,

@@ -46,6 +46,10 @@ pub const POINT_ARRAYS: &[(&str, &str, u32, &str)] = &[
     ("state", "UInt8", 1, "0 free, 1 held, 2 resting"),
 ];
 
+/// The point arrays written after [`POINT_ARRAYS`] in a scene with rotation only.
+pub const ROTATION_POINT_ARRAYS: &[(&str, &str, u32, &str)] =
+    &[("angular_velocity", "Float64", 3, "rad/s (scenes with rotation only)")];
+
 /// zlib level of the arrays: 6 is zlib's default, and ParaView's.
 const COMPRESSION_LEVEL: u32 = 6;
 
@@ -198,6 +202,11 @@ fn particles_piece(sim: &Simulation) -> PolyDataPiece {
         Attribute::generic("speed", 1).with_data(p.vel.iter().map(|v| v.length()).collect::<Vec<f64>>()),
         Attribute::generic("state", 1).with_data(p.state.iter().map(|s| s.code()).collect::<Vec<u8>>()),
     ];
+    let mut point = point;
+    if sim.setup.physics.rotation {
+        let omega: Vec<f64> = p.omega.iter().flat_map(|w| w.to_array()).collect();
+        point.push(Attribute::generic("angular_velocity", 3).with_data(omega));
+    }
     PolyDataPiece {
         points: points.into(),
         verts: Some(VertexNumbers::XML { connectivity: (0..n).collect(), offsets: (1..=n).collect() }),

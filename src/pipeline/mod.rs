@@ -285,7 +285,18 @@ impl WithMotion for StepWith<'_> {
     fn run<M: Motion>(self, motion: &M) {
         let StepWith { world, setup, record, scratch, h } = self;
         let (t0, t1) = (world.time, world.time + h);
-        let flight = Kernel::new(motion, &setup.physics, &setup.fluid, &setup.kinds, &setup.walls);
+        // With the history effect, the memory at the start of the step is read by the flight
+        // kernel while the pass writes the memory at its end into `scratch.next` (commit swaps
+        // them, like the other columns). Empty without the effect.
+        let start_memory = std::mem::take(&mut world.particles.memory);
+        let flight = Kernel::new(motion, &setup.physics, &setup.fluid, &setup.kinds, &setup.walls)
+            .remembering(
+                &setup.physics,
+                &setup.fluid,
+                &start_memory,
+                setup.physics.history.as_ref(),
+                t1 - t0,
+            );
         let ctx = contact::Ctx::new(
             &flight,
             &setup.physics,
@@ -301,6 +312,9 @@ impl WithMotion for StepWith<'_> {
         contact::release_pairs(&ctx, p, &mut world.lasting, t1);
         // 1.–3. (walls): one pass over the particles.
         let pass = particle_pass::run(&flight, p, (t0, t1), &mut scratch.next, &mut scratch.wall_candidates);
+        if flight.rotation() {
+            particle_pass::spin(&flight, p, h, &mut scratch.next);
+        }
         laps.lap(&mut times.particle_pass);
         // 3. Broad phase (pairs).
         scratch.pair_candidates.clear();
@@ -357,5 +371,9 @@ impl WithMotion for StepWith<'_> {
         // 8. Emit: the step's events wait in `record.events` for the sinks.
         world.time = t1;
         world.steps += 1;
+        // The memory at the start of the step becomes the next step's scratch.
+        drop(ctx);
+        drop(flight);
+        scratch.next.memory = start_memory;
     }
 }

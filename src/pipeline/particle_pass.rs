@@ -3,7 +3,8 @@
 //! [`contact::release_at_wall`], [`Kernel::free_flight`] and [`contact::touches_wall`].
 
 use crate::contact;
-use crate::flight::{Kernel, Motion, Segment};
+use crate::effects::LUBRICATION_RANGE;
+use crate::flight::{Flight, Kernel, Motion, NO_MEMORY, Segment};
 use crate::numeric::lanes::{DVec3x4, F64x4, LANES};
 use crate::particles::{NO_WALL, Next, Particles, State};
 use crate::walls::Surface;
@@ -35,10 +36,14 @@ pub(crate) fn run<M: Motion>(
     wall_candidates: &mut Vec<u32>,
 ) -> PassResult {
     let n = p.len();
-    next.resize(n);
+    next.resize(n, flight.rotation());
+    let modes = flight.memory_modes();
+    if let Some(modes) = modes {
+        next.memory.resize(n * modes, DVec3::ZERO);
+    }
     let (pos, kind, diameter, release_time, release_vel) =
         (&p.pos, &p.kind, &p.diameter, &p.release_time, &p.release_vel);
-    let chunks: Vec<Chunk> = (
+    let columns = (
         p.state.par_chunks_mut(CHUNK),
         p.vel.par_chunks_mut(CHUNK),
         p.wall.par_chunks_mut(CHUNK),
@@ -53,7 +58,7 @@ pub(crate) fn run<M: Motion>(
             // Every column as a slice of the chunk's length, so the loops have no bounds checks.
             let (base, len) = (c * CHUNK, state.len());
             let range = base..base + len;
-            let cols = Columns {
+            Columns {
                 base,
                 pos: &pos[range.clone()],
                 kind: &kind[range.clone()],
@@ -67,14 +72,25 @@ pub(crate) fn run<M: Motion>(
                 v1: &mut v1[..len],
                 s1: &mut s1[..len],
                 w1: &mut w1[..len],
-            };
-            if !flight.lubricated() && cols.state.iter().all(|&s| s == State::Free) {
-                free_chunk(flight, cols, t0, t1)
-            } else {
-                mixed_chunk(flight, cols, t0, t1)
             }
-        })
-        .collect();
+        });
+    let chunks: Vec<Chunk> = match modes {
+        None => columns
+            .map(|cols| {
+                if cols.state.iter().all(|&s| s == State::Free) {
+                    free_chunk(flight, cols, t0, t1)
+                } else {
+                    mixed_chunk(flight, cols, t0, t1, Forgetting)
+                }
+            })
+            .collect(),
+        // With the history effect every chunk goes one particle at a time and writes each
+        // particle's memory at t1.
+        Some(modes) => columns
+            .zip(next.memory.par_chunks_mut(CHUNK * modes))
+            .map(|(cols, out)| mixed_chunk(flight, cols, t0, t1, Remembering { out, modes }))
+            .collect(),
+    };
     wall_candidates.clear();
     let mut result = PassResult { step_move: 0.0, suspect: false };
     for chunk in chunks {
@@ -84,6 +100,20 @@ pub(crate) fn run<M: Motion>(
     }
     result.step_move = result.step_move.sqrt();
     result
+}
+
+/// Stage 2 for spins, in a scene with rotation only (PHYSICS.md §9): every particle's spin
+/// relaxed by the fluid's torque over the step (`Kernel::spin_after`), into `next.omega`. A
+/// pass of its own, not in the loops above: translation does not depend on spin, and a scene
+/// without rotation must keep those loops as they are.
+pub(crate) fn spin<M: Motion>(flight: &Kernel<M>, p: &Particles, h: f64, next: &mut Next) {
+    let (kind, diameter, pos, omega) = (&p.kind, &p.diameter, &p.pos, &p.omega);
+    next.omega.par_chunks_mut(CHUNK).enumerate().for_each(|(c, out)| {
+        for (j, o) in out.iter_mut().enumerate() {
+            let i = c * CHUNK + j;
+            *o = flight.spin_after((kind[i] as usize, diameter[i]), pos[i], omega[i], h);
+        }
+    });
 }
 
 /// One chunk of the particle columns: the state at the start of the step (read), the part of
@@ -112,7 +142,7 @@ struct Columns<'a> {
 /// adaptor with a closure, no `<[T; N]>::map`): a call out of the AVX2 copy runs without AVX2
 /// and passes its values through memory.
 #[multiversion(targets("x86_64+avx2"))]
-fn free_chunk<M: Motion>(flight: &Kernel<M>, c: Columns, t0: f64, t1: f64) -> Chunk {
+fn free_chunk<M: Motion>(flight: &Kernel<M>, mut c: Columns, t0: f64, t1: f64) -> Chunk {
     // Free at the start of the step: released, if ever, before t0.
     debug_assert!(c.release_time.iter().all(|&t| t <= t0));
     // 2. alone first, by lane groups of four particles where that pays (`crate::numeric::lanes`), the
@@ -138,6 +168,12 @@ fn free_chunk<M: Motion>(flight: &Kernel<M>, c: Columns, t0: f64, t1: f64) -> Ch
     for j in by_lanes..c.pos.len() {
         let field = flight.field(c.kind[j] as usize, c.diameter[j]);
         (c.x1[j], c.v1[j]) = flight.motion.advance(&field, c.pos[j], c.vel[j], h);
+    }
+    // With wall lubrication, the few whose move comes within its range of a wall fly again,
+    // through the kernel, which looks for the wall (`Kernel::fly`); the rest keep the lane
+    // group's flight, which is what the kernel would give them too.
+    if flight.lubricated() {
+        refly_near_walls(flight, &mut c, t0, t1);
     }
     c.s1.fill(State::Free);
     c.w1.fill(NO_WALL);
@@ -165,19 +201,104 @@ fn free_chunk<M: Motion>(flight: &Kernel<M>, c: Columns, t0: f64, t1: f64) -> Ch
     out
 }
 
+/// Stage 2 again for the free particles of a chunk whose move (straight, from the start to the
+/// free flight's end) comes within the lubrication range of a wall, with the sphere grown by
+/// that range: [`Kernel::free_flight`] flies them by the lubricated sub-steps when a wall is
+/// within reach, and otherwise as the lane groups did. The range is ten radii, where the wall's
+/// terms have tapered to zero with their slope, so a path that bends back into the range within
+/// one step (by less than `|a| h²/8`) meets a wall term of the order of that bend squared.
+/// Outside [`free_chunk`]'s inlined loops: it runs only in scenes with the effect.
+#[inline(never)]
+fn refly_near_walls<M: Motion>(flight: &Kernel<M>, c: &mut Columns, t0: f64, t1: f64) {
+    for j in 0..c.pos.len() {
+        let (x, d) = (c.pos[j], c.diameter[j]);
+        let reach = 0.5 * d * (1.0 + LUBRICATION_RANGE);
+        if flight.walls.iter().any(|w| w.shape.may_touch(x, c.x1[j], reach)) {
+            let start =
+                Segment { t: t0, x, v: c.vel[j], state: State::Free, wall: NO_WALL, memory: NO_MEMORY };
+            let f = flight.free_flight(start, (c.kind[j] as usize, d), t1);
+            (c.x1[j], c.v1[j]) = (f.x, f.v);
+        }
+    }
+}
+
+/// How [`mixed_chunk`] flies a particle: without memory, or writing its memory at the end of
+/// the step (the history effect). A type, so that the loop without memory is compiled as if
+/// the effect did not exist.
+trait Recorder {
+    fn fly<M: Motion>(
+        &mut self,
+        flight: &Kernel<M>,
+        start: Segment,
+        kd: (usize, f64),
+        t1: f64,
+        j: usize,
+    ) -> Flight;
+}
+
+/// Flies without memory.
+struct Forgetting;
+
+impl Recorder for Forgetting {
+    #[inline(always)]
+    fn fly<M: Motion>(
+        &mut self,
+        flight: &Kernel<M>,
+        start: Segment,
+        kd: (usize, f64),
+        t1: f64,
+        _: usize,
+    ) -> Flight {
+        flight.free_flight(start, kd, t1)
+    }
+}
+
+/// Flies with memory, writing particle `j`'s memory at `t1` into its `modes` vectors of `out`.
+struct Remembering<'a> {
+    out: &'a mut [DVec3],
+    modes: usize,
+}
+
+impl Recorder for Remembering<'_> {
+    #[inline(always)]
+    fn fly<M: Motion>(
+        &mut self,
+        flight: &Kernel<M>,
+        start: Segment,
+        kd: (usize, f64),
+        t1: f64,
+        j: usize,
+    ) -> Flight {
+        flight.free_flight_remembering(start, kd, t1, &mut self.out[j * self.modes..(j + 1) * self.modes])
+    }
+}
+
 /// Any chunk: stages 1, 2 and 3 (walls) for particles in every state.
-fn mixed_chunk<M: Motion>(flight: &Kernel<M>, c: Columns, t0: f64, t1: f64) -> Chunk {
+fn mixed_chunk<M: Motion, R: Recorder>(
+    flight: &Kernel<M>,
+    c: Columns,
+    t0: f64,
+    t1: f64,
+    mut rec: R,
+) -> Chunk {
     let mut out = Chunk::default();
     let mut sum = 0.0;
     for j in 0..c.pos.len() {
         let (x, k, d) = (c.pos[j], c.kind[j] as usize, c.diameter[j]);
         // 1. (walls): rewrites where the path starts.
-        let start =
-            Segment { t: t0.max(c.release_time[j]), x, v: c.vel[j], state: c.state[j], wall: c.wall[j] };
+        let memory = (c.base + j) as u32;
+        let start = Segment {
+            t: t0.max(c.release_time[j]),
+            x,
+            v: c.vel[j],
+            state: c.state[j],
+            wall: c.wall[j],
+            memory,
+        };
         let start = contact::release_at_wall(flight, start, c.release_vel[j], (k, d), t1);
         (c.state[j], c.vel[j], c.wall[j]) = (start.state, start.v, start.wall);
         // 2.
-        let f = flight.free_flight(start, (k, d), t1);
+        let f = rec.fly(flight, start, (k, d), t1, j);
         (c.x1[j], c.v1[j], c.s1[j]) = (f.x, f.v, f.state);
         // A resting particle that slid off its wall has none.
         c.w1[j] = if f.state == State::Free { NO_WALL } else { start.wall };

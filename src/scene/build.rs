@@ -14,10 +14,10 @@ use super::stiffness::stiffest_drag;
 use super::{LoadOptions, Scene};
 use super::{fill, flux, overlap, walls};
 use crate::contact::BounceRule;
-use crate::effects::{Physics, build_effect};
+use crate::effects::{MemoryKernel, Physics, SHORTEST_LAG, build_effect};
 use crate::fluid::{Flow, Fluid, Poiseuille};
 use crate::integrate::IntegratorKind;
-use crate::particles::{Material, ParticleKind, Particles};
+use crate::particles::{FrictionMaterial, Material, ParticleKind, Particles};
 use crate::pipeline::Setup;
 use crate::walls::{Surface, Wall};
 use glam::DVec3;
@@ -117,7 +117,11 @@ pub(super) fn build(
         })?;
         effects.push(effect);
     }
-    let physics = Physics::build(&fluid, &kinds, &effects);
+    let mut physics = Physics::build(&fluid, &kinds, &effects);
+    // Friction needs the spin: a scene with a friction key has rotation (PHYSICS.md §9).
+    let friction =
+        kinds.iter().any(|k| k.friction.named()) || walls.iter().any(|w| w.material.friction.named());
+    physics.rotation |= friction;
     let physics_has_lubrication = physics.wall_lubrication;
     if file.effects.contains_key("added_mass") {
         // The effect checks the sign itself; the range is the scene's (ranges.rs).
@@ -127,6 +131,13 @@ pub(super) fn build(
         return Err(Invalid::new(
             "effects.wall_lubrication",
             "needs the drag effect (it raises the drag near walls), got a scene without drag",
+        ));
+    }
+    if physics.history.is_some() && physics.wall_lubrication {
+        return Err(Invalid::new(
+            "effects.history",
+            "cannot be combined with wall_lubrication yet (the sub-stepped flight near a wall does \
+             not carry the memory); name one of the two",
         ));
     }
     if physics.drag.is_some() && fluid.viscosity <= 0.0 {
@@ -140,12 +151,8 @@ pub(super) fn build(
     let rule = BounceRule {
         beta: check::non_negative("bounce.beta", b.beta.unwrap_or(DEFAULT_BETA))?,
         st_critical: check::non_negative("bounce.st_critical", b.st_critical.unwrap_or(DEFAULT_ST_CRITICAL))?,
-        tangential_restitution: check::in_range(
-            "bounce.tangential_restitution",
-            b.tangential_restitution,
-            0.0,
-            1.0,
-        )?,
+        tangential_restitution: tangential_rule(b, friction)?,
+        friction,
         hold_at_contact: physics.hold_at_contact,
         e_rule: e_rule(b, physics.wall_lubrication)?,
     };
@@ -197,6 +204,13 @@ pub(super) fn build(
     }
     // After `dt = "auto"` has chosen: its step is far inside the limit, and this says so.
     check_stable_step(&scene.setup, &scene.particles)?;
+    if let Some(kernel) = &scene.setup.physics.history {
+        check_history_window(kernel, scene.setup.dt)?;
+        // One memory per particle, allocated only here (PHYSICS.md §10).
+        let p = &mut scene.particles;
+        p.memory_modes = kernel.modes();
+        p.memory = vec![glam::DVec3::ZERO; p.len() * kernel.modes()];
+    }
     if !options.allow_long_run {
         run_length(duration, output_interval, scene.setup.dt).map_err(|e| {
             let key = match e {
@@ -207,6 +221,32 @@ pub(super) fn build(
         })?;
     }
     Ok(scene)
+}
+
+/// The history window must hold at least one step (a memory shorter than Δt would forget the
+/// step being taken), and its shortest resolved lag ([`SHORTEST_LAG`] of it) must stay below
+/// Δt/1000, where the lumped short-lag term is exact: a window of at most 10⁷ Δt.
+fn check_history_window(kernel: &MemoryKernel, dt: f64) -> Result<(), Invalid> {
+    let key = "effects.history.window";
+    if kernel.window < dt {
+        return Err(Invalid::new(
+            key,
+            format!("must be at least the time step dt = {} s, got {} s", num(dt), num(kernel.window)),
+        ));
+    }
+    let longest = 1e-3 * dt / SHORTEST_LAG;
+    if kernel.window > longest {
+        return Err(Invalid::new(
+            key,
+            format!(
+                "must be at most 1e7 dt = {} s (the memory resolves lags down to 1e-10 of the window, \
+                 which must stay below dt/1000), got {} s",
+                num(longest),
+                num(kernel.window)
+            ),
+        ));
+    }
+    Ok(())
 }
 
 fn build_fluid(f: &FluidSpec, base: &Path) -> Result<Fluid, Invalid> {
@@ -327,9 +367,32 @@ fn build_kinds(specs: &[KindSpec]) -> Result<Vec<ParticleKind>, Invalid> {
                 .map(|v| check::positive_in(&key("roughness"), v, &ROUGHNESS))
                 .transpose()?
                 .unwrap_or(0.0),
+            friction: friction_keys(
+                &key(""),
+                (spec.friction, spec.tangential_restitution, spec.rolling_friction),
+            )?,
         });
     }
     Ok(kinds)
+}
+
+/// The friction keys of a kind or a wall material **[ext]** (PHYSICS.md §9), `prefix` the key
+/// path up to the key's name (`kinds[0].`, `walls[1].material.`): `friction` (μ) 0 to 10,
+/// `tangential_restitution` (β0) −1 to 1, `rolling_friction` (μ_r) 0 to 1.
+pub(super) fn friction_keys(
+    prefix: &str,
+    (mu, beta0, rolling): (Option<f64>, Option<f64>, Option<f64>),
+) -> Result<FrictionMaterial, Invalid> {
+    let key = |f: &str| format!("{prefix}{f}");
+    Ok(FrictionMaterial {
+        friction: mu.map(|v| check::in_range(&key("friction"), v, 0.0, 10.0)).transpose()?,
+        tangential_restitution: beta0
+            .map(|v| check::in_range(&key("tangential_restitution"), v, -1.0, 1.0))
+            .transpose()?,
+        rolling_friction: rolling
+            .map(|v| check::in_range(&key("rolling_friction"), v, 0.0, 1.0))
+            .transpose()?,
+    })
 }
 
 pub(super) fn poisson(key: &str, v: f64) -> Result<f64, Invalid> {
@@ -409,6 +472,25 @@ fn e_rule(b: &BounceSpec, lubrication: bool) -> Result<Option<Option<f64>>, Inva
             forbid("bounce.st_critical", b.st_critical.is_some(), e_rule)?;
             Ok(Some(b.e.map(|e| check::in_range("bounce.e", e, 0.0, 1.0)).transpose()?))
         }
+    }
+}
+
+/// `bounce.tangential_restitution` (`e_t`, 0 to 1; 1 when left out) is the tangential rule of
+/// a scene without friction. With friction keys, Walton's impulse model replaces it, and a value
+/// given would be silently unused: it is refused, with what to write instead.
+fn tangential_rule(b: &BounceSpec, friction: bool) -> Result<f64, Invalid> {
+    match (b.tangential_restitution, friction) {
+        (None, _) => Ok(1.0),
+        (Some(v), false) => check::in_range("bounce.tangential_restitution", v, 0.0, 1.0),
+        (Some(v), true) => Err(Invalid::new(
+            "bounce.tangential_restitution",
+            format!(
+                "is the tangential rule of a scene without friction; this scene gives friction keys, \
+                 whose impulse model replaces it: remove it and give `tangential_restitution` (β0, \
+                 -1 to 1) with `friction` in [[kinds]] or a wall's material, got {}",
+                num(v)
+            ),
+        )),
     }
 }
 

@@ -249,26 +249,21 @@ pub enum OutsideSpec {
     Nearest,
 }
 
-#[derive(Debug, Clone, Deserialize)]
+#[derive(Debug, Clone, Default, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct BounceSpec {
     /// β of L06 eq. 2; left out: [`DEFAULT_BETA`]. Only for the `"l06"` rule.
     pub beta: Option<f64>,
     /// `St_c`; left out: [`DEFAULT_ST_CRITICAL`]. Only for the `"l06"` rule.
     pub st_critical: Option<f64>,
-    #[serde(default = "one")]
-    pub tangential_restitution: f64,
+    /// `e_t` of the frictionless rule; left out: 1. Refused in a scene with friction keys,
+    /// where the materials' `tangential_restitution` (β0) is the tangential rule.
+    pub tangential_restitution: Option<f64>,
     /// `"l06"` (ε from L06 eq. 2) or `"e"` (the dry restitution on the impact speed, with wall
     /// lubrication); left out: `"e"` with the `wall_lubrication` effect, `"l06"` without.
     pub rule: Option<RuleSpec>,
     /// `e` of the `"e"` rule; left out: the particle's (or wall's) `restitution_max`.
     pub e: Option<f64>,
-}
-
-impl Default for BounceSpec {
-    fn default() -> Self {
-        BounceSpec { beta: None, st_critical: None, tangential_restitution: 1.0, rule: None, e: None }
-    }
 }
 
 /// `bounce.rule`.
@@ -283,9 +278,6 @@ pub enum RuleSpec {
 pub const DEFAULT_BETA: f64 = 35.0;
 /// The critical Stokes number of L06 when the scene does not give it.
 pub const DEFAULT_ST_CRITICAL: f64 = 10.0;
-fn one() -> f64 {
-    1.0
-}
 
 /// One `[[kinds]]` entry; `type` says which material keys it needs (checked in `build`).
 #[derive(Debug, Clone, Deserialize)]
@@ -301,6 +293,12 @@ pub struct KindSpec {
     pub surface_tension: Option<f64>,
     /// Surface roughness `h_r` (m), used by the `wall_lubrication` effect.
     pub roughness: Option<f64>,
+    /// Coulomb friction coefficient `μ` **[ext]**.
+    pub friction: Option<f64>,
+    /// Walton's tangential restitution `β0` **[ext]** (−1 to 1).
+    pub tangential_restitution: Option<f64>,
+    /// Rolling friction coefficient `μ_r` **[ext]**.
+    pub rolling_friction: Option<f64>,
 }
 
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize)]
@@ -318,6 +316,12 @@ pub struct MaterialSpec {
     pub restitution_max: Option<f64>,
     /// Surface roughness of the wall (m), used by the `wall_lubrication` effect.
     pub roughness: Option<f64>,
+    /// Coulomb friction coefficient `μ` **[ext]**.
+    pub friction: Option<f64>,
+    /// Walton's tangential restitution `β0` **[ext]** (−1 to 1).
+    pub tangential_restitution: Option<f64>,
+    /// Rolling friction coefficient `μ_r` **[ext]**.
+    pub rolling_friction: Option<f64>,
 }
 
 /// One `[[walls]]` entry; `type` says which geometry keys it needs (checked in `build`).

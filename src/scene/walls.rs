@@ -158,5 +158,9 @@ fn build_material(m: &MaterialSpec, key: &str) -> Result<WallMaterial, Invalid> 
             .map(|v| check::positive_in(&k("roughness"), v, &ROUGHNESS))
             .transpose()?
             .unwrap_or(0.0),
+        friction: super::build::friction_keys(
+            &k(""),
+            (m.friction, m.tangential_restitution, m.rolling_friction),
+        )?,
     })
 }

@@ -39,6 +39,8 @@ pub struct WallMaterial {
     /// Surface roughness `h_r` of the wall (m) **[ext]**, added to the particle's with the
     /// `wall_lubrication` effect (PHYSICS.md §8); 0 when not given.
     pub roughness: f64,
+    /// The wall's friction keys **[ext]** (PHYSICS.md §9).
+    pub friction: crate::particles::FrictionMaterial,
 }
 
 /// A named static wall.

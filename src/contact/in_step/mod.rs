@@ -17,7 +17,7 @@ mod queue;
 mod track;
 
 use super::{ContactEvent, Ctx, LastingContact};
-use crate::flight::Motion;
+use crate::flight::{Motion, NO_MEMORY};
 use crate::particles::{NO_WALL, Next, Particles, State, WallHold};
 use glam::DVec3;
 use queue::IslandResult;
@@ -45,14 +45,27 @@ pub(crate) fn resolve_in_step<M: Motion>(
         })
         .collect();
     let mut suspect = false;
+    let modes = ctx.flight.memory_modes();
     for r in results {
         for tr in r.tracks {
             let i = tr.i;
+            // With the history effect, a path that a contact or a release restarted has a new
+            // memory, which the particle pass did not see (stage 2 flew the path as it was).
+            if let Some(m) = modes
+                && tr.seg.memory == NO_MEMORY
+            {
+                let out = &mut next.memory[i * m..(i + 1) * m];
+                ctx.flight.fly_remembering(&tr.field, (tr.k, tr.r()), &tr.seg, t1 - tr.seg.t, out);
+            }
             let (x, v) = clear_of_walls(ctx, tr.end.x, tr.end.v, tr.r());
             suspect |= !(x.is_finite() && v.is_finite());
             next.pos[i] = x;
             next.vel[i] = v;
             next.state[i] = tr.end.state;
+            if ctx.flight.rotation() {
+                // The same as stage 2's spin for a particle without contact in the step.
+                next.omega[i] = ctx.spin_at(&tr, t1);
+            }
             next.wall[i] = if tr.end.state == State::Free { NO_WALL } else { tr.seg.wall };
             if let Some((release_time, release_vel)) = tr.release {
                 next.holds.push(WallHold { index: i as u32, release_time, release_vel });

@@ -4,7 +4,7 @@
 use super::super::Ctx;
 use crate::contact::detect::end_of_step::detect_at_end;
 use crate::contact::{ImpactLocation, locate_on_path};
-use crate::flight::{Flight, Motion, Segment};
+use crate::flight::{Flight, Motion, NO_MEMORY, Segment};
 use crate::particles::{Next, Particles, State};
 use crate::walls::{Crossing, Surface, parts_slid_along};
 use glam::DVec3;
@@ -28,6 +28,12 @@ pub(crate) struct Track<M: Motion> {
     pub wall: u32,
     /// Release time and velocity of a hold at a wall begun in the step.
     pub release: Option<(f64, DVec3)>,
+    /// With rotation: the spin (rad/s) at time `spin_t` (s), from where the particle was then,
+    /// `spin_x` (m) — the start of the step, or the last contact — relaxed from there by
+    /// `Kernel::spin_after`.
+    pub spin: DVec3,
+    pub spin_t: f64,
+    pub spin_x: DVec3,
 }
 
 impl<M: Motion> Track<M> {
@@ -56,11 +62,26 @@ impl<'a, M: Motion> Ctx<'a, M> {
                 v: p.vel[i],
                 state: p.state[i],
                 wall: p.wall[i],
+                // Released in this step: the path starts at the release, with an empty memory.
+                memory: if p.release_time[i] > t0 { NO_MEMORY } else { i as u32 },
             },
             end: Flight { x: next.pos[i], v: next.vel[i], state: next.state[i] },
             wall: p.wall[i],
             release: None,
+            spin: if self.flight.rotation() { p.omega[i] } else { DVec3::ZERO },
+            spin_t: t0,
+            spin_x: p.pos[i],
         }
+    }
+
+    /// The spin of `tr` at time `t` (rad/s); zero without rotation.
+    pub(crate) fn spin_at(&self, tr: &Track<M>, t: f64) -> DVec3 {
+        self.flight.spin_after((tr.k, tr.d), tr.spin_x, tr.spin, t - tr.spin_t)
+    }
+
+    /// The spin of `tr` is `omega` from time `t` at `x` (a contact changed it).
+    pub(crate) fn set_spin(tr: &mut Track<M>, omega: DVec3, t: f64, x: DVec3) {
+        (tr.spin, tr.spin_t, tr.spin_x) = (omega, t, x);
     }
 
     /// Position and velocity of `tr` at time `t` on its current segment.

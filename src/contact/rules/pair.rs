@@ -158,6 +158,7 @@ mod tests {
             restitution_max: 0.91,
             material: Material::Drop { surface_tension: 0.026 },
             roughness: 0.0,
+            friction: Default::default(),
         }
     }
 

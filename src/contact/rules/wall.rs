@@ -18,6 +18,10 @@ pub struct BounceRule {
     pub st_critical: f64,
     /// Tangential restitution `e_t` **[ext]**: tangential velocity kept at release; 1 default.
     pub tangential_restitution: f64,
+    /// Walton's friction at impacts and Coulomb friction in lasting contacts **[ext]**
+    /// (PHYSICS.md §9): the scene gives friction keys. Then `tangential_restitution` is 1 and
+    /// the materials' keys ([`super::friction::Friction::between`]) make the tangential rule.
+    pub friction: bool,
     /// Hold rebounding particles at the wall for `t_c` (the contact-time effect).
     pub hold_at_contact: bool,
     /// The `e` rule **[ext]** (PHYSICS.md §3, §8), with wall lubrication: the rebound is `e`
@@ -32,6 +36,7 @@ impl Default for BounceRule {
             beta: 35.0,
             st_critical: 10.0,
             tangential_restitution: 1.0,
+            friction: false,
             hold_at_contact: false,
             e_rule: None,
         }

@@ -80,3 +80,25 @@ where
         .draw()?;
     Ok(())
 }
+
+/// The `main` of a program that draws into a folder: `[OUT_DIR] [--font FILE.ttf]`, `default`
+/// without a folder; the font registered, then `run(out)`; an error printed and a failure
+/// status. (Each program includes this module; the ones that write elsewhere do not call it.)
+#[allow(dead_code)]
+pub fn main_writing_into(
+    default: &str,
+    run: impl FnOnce(&Path) -> Result<(), String>,
+) -> std::process::ExitCode {
+    let mut args: Vec<String> = std::env::args().skip(1).collect();
+    let result = take_font_arg(&mut args).and_then(|font| {
+        register(&font)?;
+        run(Path::new(args.first().map_or(default, |s| s.as_str())))
+    });
+    match result {
+        Ok(()) => std::process::ExitCode::SUCCESS,
+        Err(e) => {
+            eprintln!("error: {e}");
+            std::process::ExitCode::FAILURE
+        }
+    }
+}

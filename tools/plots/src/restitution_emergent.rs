@@ -31,7 +31,7 @@ use plotters::coord::Shift;
 use plotters::prelude::*;
 use rayon::prelude::*;
 use std::io::Write;
-use std::path::{Path, PathBuf};
+use std::path::Path;
 use std::process::ExitCode;
 use wetbounce::Outcome;
 use wetbounce::Scene;
@@ -259,16 +259,5 @@ fn run(out: &Path) -> Result<(), String> {
 }
 
 fn main() -> ExitCode {
-    let mut args: Vec<String> = std::env::args().skip(1).collect();
-    let result = plotting::take_font_arg(&mut args).and_then(|font| {
-        plotting::register(&font)?;
-        run(&PathBuf::from(args.first().map_or("docs/figures", |s| s.as_str())))
-    });
-    match result {
-        Ok(()) => ExitCode::SUCCESS,
-        Err(e) => {
-            eprintln!("error: {e}");
-            ExitCode::FAILURE
-        }
-    }
+    plotting::main_writing_into("docs/figures", run)
 }

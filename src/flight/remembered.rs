@@ -1,0 +1,130 @@
+//! **[ext]** Free flight with the history force (PHYSICS.md §10): the Basset–Boussinesq memory
+//! integral with its kernel a sum of exponentials, each mode one state per particle.
+//!
+//! With the slip `w = v − u` and the modes `F_k(t) = ∫ e^{−λ_k (t − s)} (dw/ds) ds`, the force
+//! per unit inertia is `a_H = −c (Σ_k w_k F_k + D dw/dt)`, `c = K_H / m_eff` (s^−½). Over a
+//! segment of length `h` the particle's acceleration is taken linear in time, from `a0` at its
+//! start to `a1` at its end (the trapezoidal rule), and the rate of change of the slip is taken
+//! as that acceleration (exact in quiescent and uniform flow). Then each mode moves on exactly,
+//!
+//! `F_k(h) = e^{−λ_k h} F_k(0) + a0 h φ1(−λ_k h) + (a1 − a0) h φ2(−λ_k h)`,
+//!
+//! and the force balance at the end is linear in `a1` once the drag rate is frozen at a
+//! predicted end state: one solve, no iteration. `a0` needs no solve: the modes at the start
+//! are known. The fast modes (`λ_k h ≫ 1`) follow the acceleration within the segment; the
+//! slow ones carry the old accelerations. The scheme is second order on smooth motions and
+//! A-stable in the drag (as `λ h → ∞` the velocity lands on the fluid's plus the terminal
+//! slip), whatever the scene's integrator: with history, free flight is this scheme.
+
+use super::{Kernel, Motion, NO_MEMORY, Segment};
+use crate::effects::MemoryKernel;
+use crate::integrate::{ForceField, phi12};
+use glam::DVec3;
+
+/// What the kernel keeps for the history effect.
+pub(super) struct Memory<'a> {
+    /// The memory kernel (weights, rates, short-lag term).
+    pub kernel: &'a MemoryKernel,
+    /// Per kind, `c a` (m s^−½): [`crate::effects::history_rate_times_radius`].
+    pub kind_rate: Vec<f64>,
+    /// The memory of every particle at the start of the step, `kernel.modes()` per particle.
+    pub start: &'a [DVec3],
+    /// The per-mode coefficients of a whole step (most segments are one).
+    pub step: StepCoefficients,
+}
+
+/// The per-mode coefficients of a segment of length `h`, the same for every particle:
+/// `e^{−λ_k h}`, `h φ1(−λ_k h)`, `h φ2(−λ_k h)`, and the sums `Σ w_k h φ1`, `Σ w_k h φ2` (s^½).
+#[derive(Debug, Clone, PartialEq)]
+pub struct StepCoefficients {
+    h: f64,
+    decay: Vec<f64>,
+    phi1: Vec<f64>,
+    phi2: Vec<f64>,
+    sum1: f64,
+    sum2: f64,
+}
+
+impl StepCoefficients {
+    /// The coefficients of `kernel` for a segment of `h` (s).
+    pub fn new(kernel: &MemoryKernel, h: f64) -> Self {
+        let n = kernel.modes();
+        let mut c = StepCoefficients {
+            h,
+            decay: Vec::with_capacity(n),
+            phi1: Vec::with_capacity(n),
+            phi2: Vec::with_capacity(n),
+            sum1: 0.0,
+            sum2: 0.0,
+        };
+        for (&w, &rate) in kernel.sum.weights.iter().zip(&kernel.sum.rates) {
+            let z = -rate * h;
+            let (p1, p2) = phi12(z);
+            // e^z = 1 + z φ1(z): no second exponential.
+            c.decay.push(1.0 + z * p1);
+            c.phi1.push(h * p1);
+            c.phi2.push(h * p2);
+            c.sum1 += w * h * p1;
+            c.sum2 += w * h * p2;
+        }
+        c
+    }
+}
+
+impl<M: Motion> Kernel<'_, M> {
+    /// Free flight with memory of a particle of kind `k` and radius `r` over `h` (s) from the
+    /// start of `seg`; with `out`, the memory at the end is written there.
+    pub(super) fn remembered_flight(
+        &self,
+        mem: &Memory,
+        field: &M::Field<DVec3>,
+        (k, r): (usize, f64),
+        seg: &Segment,
+        h: f64,
+        out: Option<&mut [DVec3]>,
+    ) -> (DVec3, DVec3) {
+        let owned;
+        let co = if h == mem.step.h {
+            &mem.step
+        } else {
+            owned = StepCoefficients::new(mem.kernel, h);
+            &owned
+        };
+        let kernel = mem.kernel;
+        let n = kernel.modes();
+        let start: &[DVec3] = if seg.memory == NO_MEMORY {
+            &[]
+        } else {
+            let i = seg.memory as usize * n;
+            &mem.start[i..i + n]
+        };
+        // Σ w_k F_k(0) and Σ w_k e^{−λ_k h} F_k(0): the old accelerations' force now and at h.
+        let (mut now, mut later) = (DVec3::ZERO, DVec3::ZERO);
+        for ((f, w), e) in start.iter().zip(&kernel.sum.weights).zip(&co.decay) {
+            now += *f * *w;
+            later += *f * (w * e);
+        }
+        let c = mem.kind_rate[k] / r;
+        let inertia = 1.0 + c * kernel.short_weight;
+        let (x0, v0) = (seg.x, seg.v);
+        let l0 = field.eval(x0, v0);
+        let a0 = (l0.total(v0) - now * c) / inertia;
+        // The drag rate and the fluid velocity at a predicted end (second order needs them to
+        // O(h²)); the rest of the end's force balance is linear in a1.
+        let l1 = field.eval(x0 + v0 * h + a0 * (0.5 * h * h), v0 + a0 * h);
+        let rate = l1.inv_tau;
+        let rhs =
+            l1.explicit + (l1.u - v0 - a0 * (0.5 * h)) * rate - later * c - a0 * (c * (co.sum1 - co.sum2));
+        let a1 = rhs / (inertia + c * co.sum2 + 0.5 * rate * h);
+        if let Some(out) = out {
+            let da = a1 - a0;
+            for (j, o) in out.iter_mut().enumerate() {
+                let old = start.get(j).map_or(DVec3::ZERO, |f| *f * co.decay[j]);
+                *o = old + a0 * co.phi1[j] + da * co.phi2[j];
+            }
+        }
+        let v1 = v0 + (a0 + a1) * (0.5 * h);
+        let x1 = x0 + v0 * h + (a0 * (1.0 / 3.0) + a1 * (1.0 / 6.0)) * (h * h);
+        (x1, v1)
+    }
+}
