@@ -1,5 +1,5 @@
 """Mean residence time of the toluene drops in the disc-and-doughnut contactor
-(scenes/contactor.toml) against the water's counter-current flow rate, through the Python
+(scenes/contactor_poiseuille.toml, the Poiseuille version) against the water's counter-current flow rate, through the Python
 module.
 
     pip install ./python matplotlib
@@ -59,7 +59,7 @@ def run_point(scene: wb.Scene, mean_velocity: float) -> dict[str, float]:
 
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    ap.add_argument("--scene", type=Path, default=ROOT / "scenes/contactor.toml")
+    ap.add_argument("--scene", type=Path, default=ROOT / "scenes/contactor_poiseuille.toml")
     ap.add_argument("--velocities", type=float, nargs="+", default=[0.0, 2.0, 4.0, 6.0, 8.0, 10.0, 12.0, 14.0, 16.0],
                     help="mean downward water velocities, mm/s")
     ap.add_argument("--rate", type=float, default=250.0, help="drops injected per second")

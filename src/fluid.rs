@@ -1,7 +1,10 @@
 //! The carrier fluid: its properties and its velocity field.
 
+pub mod field;
+
 use crate::numeric::lanes::Vector;
 use glam::DVec3;
+use std::sync::Arc;
 
 /// The fluid the particles move through. SI units.
 #[derive(Debug, Clone, PartialEq)]
@@ -16,8 +19,8 @@ pub struct Fluid {
     pub flow: Flow,
 }
 
-/// The fluid velocity field, steady in time.
-#[derive(Debug, Clone, Copy, PartialEq)]
+/// The fluid velocity field.
+#[derive(Debug, Clone, PartialEq)]
 pub enum Flow {
     /// `u = 0` everywhere.
     Quiescent,
@@ -25,6 +28,19 @@ pub enum Flow {
     Uniform(DVec3),
     /// Laminar Poiseuille flow in a straight circular pipe (see [`Poiseuille`]).
     Poiseuille(Poiseuille),
+    /// A field read from CFD files (see [`field::Field`]), shared: cloning the flow clones
+    /// the handle, not the data.
+    Field(SharedField),
+}
+
+/// A [`field::Field`] behind an `Arc`; two are equal when they are the same field.
+#[derive(Debug, Clone)]
+pub struct SharedField(pub Arc<field::Field>);
+
+impl PartialEq for SharedField {
+    fn eq(&self, other: &Self) -> bool {
+        Arc::ptr_eq(&self.0, &other.0)
+    }
 }
 
 /// A steady velocity field evaluated in the hot loop; one zero-sized or tiny type per kind of
@@ -101,12 +117,21 @@ impl FlowField for Poiseuille {
 }
 
 impl Flow {
-    /// Fluid velocity at `x` (m/s), for code outside the hot loop.
-    pub fn velocity(&self, x: DVec3) -> DVec3 {
-        match *self {
+    /// Fluid velocity at `x` (m/s) at time `t` (s), for code outside the hot loop.
+    pub fn velocity(&self, x: DVec3, t: f64) -> DVec3 {
+        match self {
             Flow::Quiescent => Quiescent.velocity(x),
-            Flow::Uniform(u) => Uniform(u).velocity(x),
+            Flow::Uniform(u) => Uniform(*u).velocity(x),
             Flow::Poiseuille(p) => p.velocity(x),
+            Flow::Field(f) => f.0.velocity(x, t),
+        }
+    }
+
+    /// The field read from files, if the flow is one.
+    pub fn field(&self) -> Option<&field::Field> {
+        match self {
+            Flow::Field(f) => Some(&f.0),
+            _ => None,
         }
     }
 

@@ -5,12 +5,13 @@ use std::fmt::Write as _;
 use std::io::Write as _;
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
+use wetbounce::fluid::field::OutsideField;
 use wetbounce::output::{
     EventCsv, McapOptions, McapSink, OutputError, Progress, RunSummary, Sink, Statistics, TrajectoryCsv,
     VtkSink,
 };
 use wetbounce::run::{RunFailed, RunReport, StopSignals, run};
-use wetbounce::scene::{LoadOptions, Scene, kind_reports};
+use wetbounce::scene::{LoadOptions, Scene, field_report, kind_reports};
 
 /// Particles and drops bouncing on walls in a viscous fluid (Legendre et al. 2006).
 #[derive(Parser)]
@@ -187,7 +188,7 @@ fn run_scene(args: &RunArgs) -> Result<(String, ExitCode), String> {
     written.retain(|p| !errors.iter().any(|e| &e.path == p));
     let names: Vec<String> = written.iter().map(|p| p.display().to_string()).collect();
     let _ = writeln!(text, "wrote {}", names.join(", "));
-    Ok((text, exit_status(&report, scene.duration, &signals, &errors)))
+    Ok((text, exit_status(&report, scene.duration, &signals, &errors, sim.record.left_field.as_ref())))
 }
 
 /// Removes the files an earlier run of this scene wrote into `out` in formats this run does
@@ -300,6 +301,9 @@ fn write_summary(
     // The signal that stopped the run: one that came after its end stopped nothing.
     let signal = signals.received().filter(|_| report.interrupted);
     json["signal"] = signal.map_or(serde_json::Value::Null, |s| s.name.into());
+    if let Some(e) = &sim.record.left_field {
+        json["flow_error"] = serde_json::Value::String(e.to_string());
+    }
     json["output_errors"] = errors.iter().map(|e| serde_json::Value::String(e.to_string())).collect();
     let written_json = serde_json::to_string_pretty(&json)
         .map_err(|e| OutputError::write(&json_path, e))
@@ -314,13 +318,23 @@ fn write_summary(
 /// Reports how the run ended on standard error and picks the exit status: 1 after an output
 /// error (each named, file and OS error), 128 + the signal's number after a stop signal (130
 /// SIGINT, 143 SIGTERM, 129 SIGHUP), else 0.
-fn exit_status(report: &RunReport, duration: f64, signals: &StopSignals, errors: &[OutputError]) -> ExitCode {
+fn exit_status(
+    report: &RunReport,
+    duration: f64,
+    signals: &StopSignals,
+    errors: &[OutputError],
+    left_field: Option<&OutsideField>,
+) -> ExitCode {
+    if let Some(e) = left_field {
+        eprintln!("error: {e}");
+    }
     for e in errors {
         eprintln!("error: {e}");
     }
     let signal = signals.received();
     if report.interrupted || !errors.is_empty() {
         let cause = match (errors.first(), signal) {
+            _ if left_field.is_some() => "a particle outside the flow field".to_string(),
             (Some(_), _) => "an output error".to_string(),
             (None, Some(s)) => s.name.to_string(),
             (None, None) => "a stop request".to_string(),
@@ -331,7 +345,7 @@ fn exit_status(report: &RunReport, duration: f64, signals: &StopSignals, errors:
             report.time, duration, report.steps
         );
     }
-    match (errors.is_empty(), signal) {
+    match (errors.is_empty() && left_field.is_none(), signal) {
         (false, _) => ExitCode::FAILURE,
         (true, Some(s)) if report.interrupted => ExitCode::from(s.exit_status()),
         _ => ExitCode::SUCCESS,
@@ -464,6 +478,9 @@ fn check_scene(path: &Path, options: LoadOptions) -> Result<String, String> {
     }
     if let Some(wall) = scene.setup.walls.first() {
         let _ = writeln!(text, "  (impact at terminal velocity on wall \"{}\")", wall.name);
+    }
+    for line in field_report(&scene) {
+        let _ = writeln!(text, "  {line}");
     }
     Ok(text)
 }

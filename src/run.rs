@@ -19,7 +19,8 @@ pub struct RunReport {
     pub wall_time: Duration,
     /// Output frames written.
     pub frames: u64,
-    /// True when stopped early by `stop`.
+    /// True when stopped early by `stop`, or by a particle outside the flow field
+    /// (`Record::left_field`).
     pub interrupted: bool,
 }
 
@@ -91,7 +92,9 @@ pub fn run(
                     }
                     lost_reported = sim.record.lost.len();
                 }
-                if stop.load(Ordering::Relaxed) {
+                // A particle outside a flow field whose outside is an error ends the run like a
+                // stop signal, with a last frame; the caller reports `record.left_field`.
+                if stop.load(Ordering::Relaxed) || sim.record.left_field.is_some() {
                     for s in sinks.iter_mut() {
                         s.frame(sim)?;
                     }

@@ -87,6 +87,6 @@ surface_tension = 0.026
 restitution_max = 0.91
 "#,
     );
-    let u = scene.setup.fluid.flow.velocity(glam::DVec3::new(1.0, 2.0, 5.0));
+    let u = scene.setup.fluid.flow.velocity(glam::DVec3::new(1.0, 2.0, 5.0), 0.0);
     assert_eq!(u, glam::DVec3::new(0.0, 0.0, 0.02));
 }

@@ -220,7 +220,8 @@ fn contactor_frames_hold_every_particle_with_the_csv_numbers_and_the_walls_are_s
     let dir = tempfile::tempdir().unwrap();
     // 0.3 s of the contactor: drops injected from empty (frame 0 has none), 7 walls of 3 shapes.
     let scene = scene_with(
-        "scenes/contactor.toml",
+        // The Poiseuille version: copied alone, the shipped scene would miss its field file.
+        "scenes/contactor_poiseuille.toml",
         "contactor.toml",
         dir.path(),
         &[("duration", "0.3"), ("output_interval", "0.05")],

@@ -51,13 +51,15 @@ pub trait WithMotion {
     fn run<M: Motion>(self, motion: &M) -> Self::Out;
 }
 
-/// Runs `work` with the [`Motion`] of this integrator, drag law and flow.
+/// Runs `work` with the [`Motion`] of this integrator, drag law and flow; an unsteady flow is
+/// taken at `time` (s), the middle of the step.
 pub fn dispatch<W: WithMotion>(
     integrator: IntegratorKind,
     drag: Option<DragLawKind>,
-    flow: Flow,
+    (flow, time): (&Flow, f64),
     work: W,
 ) -> W::Out {
+    let flow = (flow, time);
     match integrator {
         IntegratorKind::Euler => by_drag(Euler, drag, flow, work),
         IntegratorKind::Rk2 => by_drag(Rk2, drag, flow, work),
@@ -66,7 +68,7 @@ pub fn dispatch<W: WithMotion>(
     }
 }
 
-fn by_drag<S: Scheme, W: WithMotion>(s: S, drag: Option<DragLawKind>, flow: Flow, w: W) -> W::Out {
+fn by_drag<S: Scheme, W: WithMotion>(s: S, drag: Option<DragLawKind>, flow: (&Flow, f64), w: W) -> W::Out {
     match drag {
         None => by_flow::<S, NoDrag, W>(s, flow, w),
         Some(DragLawKind::Stokes) => by_flow::<S, Stokes, W>(s, flow, w),
@@ -74,10 +76,11 @@ fn by_drag<S: Scheme, W: WithMotion>(s: S, drag: Option<DragLawKind>, flow: Flow
     }
 }
 
-fn by_flow<S: Scheme, D: DragLaw, W: WithMotion>(scheme: S, flow: Flow, w: W) -> W::Out {
+fn by_flow<S: Scheme, D: DragLaw, W: WithMotion>(scheme: S, (flow, time): (&Flow, f64), w: W) -> W::Out {
     match flow {
         Flow::Quiescent => w.run(&Mover::<S, D, _> { scheme, flow: fluid::Quiescent, law: PhantomData }),
-        Flow::Uniform(u) => w.run(&Mover::<S, D, _> { scheme, flow: fluid::Uniform(u), law: PhantomData }),
-        Flow::Poiseuille(p) => w.run(&Mover::<S, D, _> { scheme, flow: p, law: PhantomData }),
+        Flow::Uniform(u) => w.run(&Mover::<S, D, _> { scheme, flow: fluid::Uniform(*u), law: PhantomData }),
+        Flow::Poiseuille(p) => w.run(&Mover::<S, D, _> { scheme, flow: *p, law: PhantomData }),
+        Flow::Field(f) => w.run(&Mover::<S, D, _> { scheme, flow: f.0.at(time), law: PhantomData }),
     }
 }

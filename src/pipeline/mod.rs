@@ -44,6 +44,7 @@ use crate::contact::{self, BounceRule, ContactEvent, ImpactLocation, LastingCont
 use crate::effects::Physics;
 use crate::flight::{Kernel, Motion, WithMotion, dispatch};
 use crate::fluid::Fluid;
+use crate::fluid::field::{Outside, OutsideField};
 use crate::integrate::IntegratorKind;
 use crate::particles::{Next, ParticleKind, Particles};
 use crate::walls::Wall;
@@ -147,6 +148,9 @@ pub struct Record {
     pub lost: Vec<LostParticle>,
     /// What each outlet removed, in removal order, like [`Setup::outlets`].
     pub removed: Vec<Vec<Removal>>,
+    /// The first particle found outside a flow field whose policy is `outside = "error"`
+    /// (checked at the end of every step, in index order); the driver stops the run on it.
+    pub left_field: Option<OutsideField>,
     /// Time spent per stage.
     pub stage_times: StageTimes,
 }
@@ -259,8 +263,10 @@ impl Simulation {
     /// Advances every particle by `h` (s): the stages listed in the module documentation.
     pub fn step(&mut self, h: f64) {
         let Simulation { world, setup, record, scratch } = self;
-        let (integrator, drag, flow) = (setup.integrator, setup.physics.drag, setup.fluid.flow);
-        dispatch(integrator, drag, flow, StepWith { world, setup, record, scratch, h });
+        let setup = &*setup;
+        let (integrator, drag, flow) = (setup.integrator, setup.physics.drag, &setup.fluid.flow);
+        let mid_step = world.time + 0.5 * h;
+        dispatch(integrator, drag, (flow, mid_step), StepWith { world, setup, record, scratch, h });
     }
 }
 
@@ -347,6 +353,19 @@ impl WithMotion for StepWith<'_> {
             inject::run(&setup.injectors, &mut world.injection, &setup.walls, p, &mut world.next_id, t1);
         if renumbered {
             world.neighbours.invalidate();
+        }
+        // A flow field whose outside is an error: the first particle (in index order) left
+        // outside it after the outlets have taken theirs. Inside the step an integrator stage
+        // that strays outside got the nearest point's velocity.
+        if let Some(field) = setup.fluid.flow.field()
+            && field.outside == Outside::Error
+            && record.left_field.is_none()
+        {
+            record.left_field = (0..p.len()).find(|&i| !field.contains(p.pos[i])).map(|i| OutsideField {
+                id: p.id[i],
+                position: p.pos[i],
+                time: t1,
+            });
         }
         laps.lap(&mut times.inflow_outflow);
         // 8. Emit: the step's events wait in `record.events` for the sinks.

@@ -99,7 +99,7 @@ pub(super) fn build(
     let duration = check::positive_in("simulation.duration", sim.duration, &TIME)?;
     let output_interval = check::positive_in("simulation.output_interval", sim.output_interval, &TIME)?;
 
-    let fluid = build_fluid(&file.fluid)?;
+    let fluid = build_fluid(&file.fluid, base)?;
     let kinds = build_kinds(&file.kinds)?;
     let walls = walls::build_walls(&file.walls, base)?;
 
@@ -249,16 +249,16 @@ fn check_history_window(kernel: &MemoryKernel, dt: f64) -> Result<(), Invalid> {
     Ok(())
 }
 
-fn build_fluid(f: &FluidSpec) -> Result<Fluid, Invalid> {
+fn build_fluid(f: &FluidSpec, base: &Path) -> Result<Fluid, Invalid> {
     Ok(Fluid {
         density: check::non_negative_in("fluid.density", f.density, &FLUID_DENSITY)?,
         viscosity: check::non_negative_in("fluid.viscosity", f.viscosity, &VISCOSITY)?,
         gravity: check::magnitude_in("fluid.gravity", f.gravity, &GRAVITY)?,
-        flow: build_flow(&f.flow)?,
+        flow: build_flow(&f.flow, base)?,
     })
 }
 
-fn build_flow(f: &FlowSpec) -> Result<Flow, Invalid> {
+fn build_flow(f: &FlowSpec, base: &Path) -> Result<Flow, Invalid> {
     let k = |field: &str| format!("fluid.flow.{field}");
     let (allowed, what): (&[&str], &str) = match f.flow {
         FlowType::Quiescent => (&[], "a quiescent flow"),
@@ -266,6 +266,7 @@ fn build_flow(f: &FlowSpec) -> Result<Flow, Invalid> {
         FlowType::Poiseuille => {
             (&["point", "axis", "radius", "mean_velocity", "max_velocity"], "a poiseuille flow")
         }
+        FlowType::Field => return super::field::build_field(f, base),
     };
     let present = [
         ("velocity", f.velocity.is_some()),
@@ -276,7 +277,9 @@ fn build_flow(f: &FlowSpec) -> Result<Flow, Invalid> {
         ("max_velocity", f.max_velocity.is_some()),
     ];
     only("fluid.flow", &present, allowed, what)?;
+    super::field::forbid_field_keys(f, what)?;
     Ok(match f.flow {
+        FlowType::Field => return super::field::build_field(f, base),
         FlowType::Quiescent => Flow::Quiescent,
         FlowType::Uniform => {
             let v = required(&k("velocity"), f.velocity, what)?;

@@ -6,6 +6,7 @@
 pub mod accuracy;
 mod build;
 mod error;
+mod field;
 mod fill;
 mod flux;
 mod overlap;
@@ -19,7 +20,7 @@ mod walls;
 
 pub use accuracy::{Accuracy, AutoStep};
 pub use error::SceneError;
-pub use report::{KindReport, kind_report, kind_reports, scene_sizes};
+pub use report::{KindReport, field_report, kind_report, kind_reports, scene_sizes};
 pub use run_length::{MAX_FRAMES, MAX_STEPS, TooLong, run_length};
 
 use crate::particles::Particles;

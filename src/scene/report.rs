@@ -106,3 +106,144 @@ pub fn kind_report(scene: &Scene, k: u16, d: f64) -> KindReport {
         wall,
     }
 }
+
+/// What `wetbounce check` says about a flow field: the files, the grid, the velocities and
+/// their time scales, the grid spacing against the particle sizes, and the walls, injectors
+/// and particles that lie outside the field. Empty for an analytic flow.
+pub fn field_report(scene: &Scene) -> Vec<String> {
+    use crate::fluid::field::Grid;
+    use crate::pipeline::inject::Region;
+    use crate::walls::{Drawable, Solid};
+    let Some(f) = scene.setup.fluid.flow.field() else { return Vec::new() };
+    let i = &f.info;
+    let mut out = Vec::new();
+    let files: Vec<String> = i.files.iter().map(|p| p.display().to_string()).collect();
+    out.push(format!("flow field: {} ({}), array {}", files.join(", "), i.format, i.array));
+    let kind = match &f.grid {
+        Grid::Structured(g) => {
+            let [nx, ny, nz] = g.dims();
+            format!("structured grid of {nx} × {ny} × {nz} nodes, trilinear")
+        }
+        Grid::Unstructured(g) => {
+            format!(
+                "unstructured grid of {} cells ({} tetrahedra around their centres), barycentric",
+                g.cells(),
+                g.tets.len()
+            )
+        }
+    };
+    out.push(format!("  {kind}; {} cells, {} nodes with a value", i.cells, i.nodes));
+    let (lo, hi) = i.bounds;
+    match f.axisymmetric {
+        Some(a) => out.push(format!(
+            "  axisymmetric (r, z) table about the axis through {} along {}: r = {:.6} … {:.6} m, z = {:.6} … {:.6} m",
+            a.point, a.axis, lo.x, hi.x, lo.z, hi.z
+        )),
+        None => out.push(format!("  bounds: {lo} … {hi} m")),
+    }
+    let (slow, fast) = i.speed_range;
+    let (dx_min, dx_max) = i.spacing;
+    out.push(format!(
+        "  speed |u| = {slow:.4e} … {fast:.4e} m/s; grid spacing (cell size) {dx_min:.4e} … {dx_max:.4e} m"
+    ));
+    let crossing = if fast > 0.0 { dx_min / fast } else { f64::INFINITY };
+    let shear = if i.largest_gradient > 0.0 { 1.0 / i.largest_gradient } else { f64::INFINITY };
+    out.push(format!(
+        "  time scales: smallest spacing / largest speed = {crossing:.4e} s, 1 / largest |∂u_i/∂x_j| = {shear:.4e} s; dt = {:.4e} s is {:.3} of the shorter",
+        scene.setup.dt,
+        scene.setup.dt / crossing.min(shear)
+    ));
+    if f.snapshots.len() > 1 {
+        let (t0, t1) = (f.snapshots[0].time, f.snapshots[f.snapshots.len() - 1].time);
+        let period = f.period.map_or("held at the ends".to_string(), |p| format!("periodic, period {p} s"));
+        out.push(format!(
+            "  {} snapshots from t = {t0} to {t1} s, linear in time, {period}",
+            f.snapshots.len()
+        ));
+    }
+    out.push(format!("  outside the field: {}", f.outside.name()));
+    for (k, d) in scene_sizes(scene) {
+        out.push(format!(
+            "  {} of d = {:.4} mm: d / spacing = {:.3} … {:.3}{}",
+            scene.setup.kinds[k as usize].name,
+            d * 1e3,
+            d / dx_max,
+            d / dx_min,
+            if d > dx_min {
+                " (the particle spans cells: the flow is taken at its centre, without Faxén corrections)"
+            } else {
+                ""
+            }
+        ));
+    }
+    // Walls, injector regions and particles outside the field, by sampled points. A point
+    // counts as outside beyond a millionth of the field's size (points on the boundary).
+    let tolerance = 1e-6 * (hi - lo).length();
+    let outside = |points: &[DVec3]| -> (usize, Option<DVec3>) {
+        let bad: Vec<DVec3> = points.iter().copied().filter(|&p| f.distance_outside(p) > tolerance).collect();
+        (bad.len(), bad.first().copied())
+    };
+    let mut report = |what: String, points: Vec<DVec3>| {
+        let (n, first) = outside(&points);
+        if let Some(p) = first {
+            out.push(format!(
+                "  warning: {what}: {n} of {} sampled points lie outside the field, e.g. {p}",
+                points.len()
+            ));
+        }
+    };
+    let ring = |c: DVec3, e1: DVec3, e2: DVec3, r: f64| -> Vec<DVec3> {
+        (0..16)
+            .map(|k| {
+                let a = k as f64 * std::f64::consts::TAU / 16.0;
+                c + r * (a.cos() * e1 + a.sin() * e2)
+            })
+            .collect()
+    };
+    for w in &scene.setup.walls {
+        let points = match w.shape.solid(DVec3::ZERO, 1.0) {
+            Solid::Triangles { vertices, .. } => vertices,
+            Solid::Cuboid { center, size, rotation } => (0..8)
+                .map(|c| {
+                    let s = DVec3::new(
+                        if c & 1 == 0 { -0.5 } else { 0.5 },
+                        if c & 2 == 0 { -0.5 } else { 0.5 },
+                        if c & 4 == 0 { -0.5 } else { 0.5 },
+                    );
+                    center + rotation * (s * size)
+                })
+                .collect(),
+            Solid::Cylinder { center, radius, length, rotation } => {
+                let (e1, e2, ez) = (rotation * DVec3::X, rotation * DVec3::Y, rotation * DVec3::Z);
+                let mut p = ring(center - 0.5 * length * ez, e1, e2, radius);
+                p.extend(ring(center + 0.5 * length * ez, e1, e2, radius));
+                p
+            }
+        };
+        if w.shape.bounds().is_none() && !matches!(w.shape.solid(DVec3::ZERO, 1.0), Solid::Cylinder { .. }) {
+            continue; // a plane has no extent to check
+        }
+        report(format!("wall \"{}\"", w.name), points);
+    }
+    for j in &scene.setup.injectors {
+        let points = match j.region {
+            Region::Disk { center, radius, e1, e2, .. } => {
+                let mut p = ring(center, e1, e2, radius);
+                p.push(center);
+                p
+            }
+            Region::Box { min, max } => (0..8)
+                .map(|c| {
+                    DVec3::new(
+                        if c & 1 == 0 { min.x } else { max.x },
+                        if c & 2 == 0 { min.y } else { max.y },
+                        if c & 4 == 0 { min.z } else { max.z },
+                    )
+                })
+                .collect(),
+        };
+        report(format!("injector \"{}\" region", j.name), points);
+    }
+    report("initial particles".to_string(), scene.particles.pos.clone());
+    out
+}

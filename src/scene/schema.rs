@@ -204,6 +204,22 @@ pub struct FlowSpec {
     pub radius: Option<f64>,
     pub mean_velocity: Option<f64>,
     pub max_velocity: Option<f64>,
+    /// `field`: one VTK file, or a `.pvd` collection of snapshots.
+    pub file: Option<String>,
+    /// `field`: snapshot files, with `times`.
+    pub files: Option<Vec<String>>,
+    /// `field`: the snapshots' times (s), increasing.
+    pub times: Option<Vec<f64>>,
+    /// `field`: the velocity array's name.
+    pub array: Option<String>,
+    /// `field`: `"point"` or `"cell"` data.
+    pub data: Option<DataSpec>,
+    /// `field`: what the flow is outside the grid.
+    pub outside: Option<OutsideSpec>,
+    /// `field`: the file is a 2-D (r, z) table turned about `axis` through `point`.
+    pub axisymmetric: Option<bool>,
+    /// `field`: a series repeats with this period (s).
+    pub period: Option<f64>,
 }
 
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Deserialize)]
@@ -213,6 +229,24 @@ pub enum FlowType {
     Quiescent,
     Uniform,
     Poiseuille,
+    Field,
+}
+
+/// `fluid.flow.data`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum DataSpec {
+    Point,
+    Cell,
+}
+
+/// `fluid.flow.outside`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum OutsideSpec {
+    Error,
+    Zero,
+    Nearest,
 }
 
 #[derive(Debug, Clone, Default, Deserialize)]

@@ -39,6 +39,7 @@ pub fn max_flow_speed(flow: &Flow) -> f64 {
         Flow::Quiescent => 0.0,
         Flow::Uniform(u) => u.length(),
         Flow::Poiseuille(p) => p.max_velocity.abs(),
+        Flow::Field(f) => f.0.info.speed_range.1,
     }
 }
 

@@ -1,0 +1,370 @@
+//! A carrier flow read from files that a CFD code wrote (PHYSICS.md §7): the grid, the velocity
+//! at its nodes (one set per snapshot of a time series), and what happens outside it.
+//!
+//! The data live in one [`Field`] behind an `Arc` ([`super::Flow::Field`]), so the scene's
+//! `Flow` stays cheap to clone; the hot loop sees a [`FieldAt`], a reference and the step's
+//! snapshot weights, which is `Copy` like the analytic flows.
+
+mod appended;
+pub mod read;
+pub mod structured;
+pub mod unstructured;
+
+use super::FlowField;
+use glam::DVec3;
+use structured::{Stencil, Structured};
+use unstructured::Unstructured;
+
+/// Where the file's velocity values sit.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum DataAt {
+    /// At the grid's points.
+    Point,
+    /// At its cells (their centres).
+    Cell,
+}
+
+/// What the flow is at a point outside the field.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Outside {
+    /// The run stops with an error naming the particle, its position and the time (the
+    /// velocity inside the step is the nearest point's until then).
+    Error,
+    /// The fluid is at rest there.
+    Zero,
+    /// The velocity of the field's nearest point.
+    Nearest,
+}
+
+impl Outside {
+    /// The scene's name of the policy.
+    pub fn name(self) -> &'static str {
+        match self {
+            Outside::Error => "error",
+            Outside::Zero => "zero",
+            Outside::Nearest => "nearest",
+        }
+    }
+}
+
+/// The frame of a 2-D (r, z) table: the field at `x` is the table's at `r`, the distance from
+/// the axis, and `z`, the distance along it, turned about the axis.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Axisymmetric {
+    /// A point on the axis, where the table's z = 0 (m).
+    pub point: DVec3,
+    /// Unit direction of the axis (the table's z).
+    pub axis: DVec3,
+}
+
+/// The grid of a field.
+#[derive(Debug, Clone)]
+pub enum Grid {
+    /// Image data or a rectilinear grid: trilinear.
+    Structured(Structured),
+    /// Cells cut into tetrahedra: barycentric.
+    Unstructured(Unstructured),
+}
+
+/// One snapshot of the field.
+#[derive(Debug, Clone)]
+pub struct Snapshot {
+    /// Its time (s).
+    pub time: f64,
+    /// Velocity per node of the grid (m/s); `(u_r, u_θ, u_z)` for an axisymmetric table.
+    pub values: Vec<DVec3>,
+}
+
+/// What `wetbounce check` says about a field, computed when it is read.
+#[derive(Debug, Clone, Default)]
+pub struct FieldInfo {
+    /// The files, in time order.
+    pub files: Vec<std::path::PathBuf>,
+    /// The format's name.
+    pub format: String,
+    /// The velocity array and where it sits (`"U" (point data)`).
+    pub array: String,
+    /// Cells of the grid.
+    pub cells: usize,
+    /// Nodes carrying a value.
+    pub nodes: usize,
+    /// Lower and upper corner of the grid (in the table's frame for an axisymmetric table).
+    pub bounds: (DVec3, DVec3),
+    /// Smallest and largest speed over the nodes and snapshots (m/s).
+    pub speed_range: (f64, f64),
+    /// Smallest and largest grid spacing or cell size (m).
+    pub spacing: (f64, f64),
+    /// The largest velocity gradient's size over the cells, `max |∂u_i/∂x_j|` (1/s).
+    pub largest_gradient: f64,
+}
+
+/// A velocity field read from files.
+#[derive(Debug, Clone)]
+pub struct Field {
+    /// The grid, shared by every snapshot.
+    pub grid: Grid,
+    /// The snapshots, in increasing time; one for a steady field.
+    pub snapshots: Vec<Snapshot>,
+    /// The period (s) of a periodic series: after the last snapshot the field goes back to the
+    /// first, which it reaches at the first's time plus the period.
+    pub period: Option<f64>,
+    /// What the flow is outside the grid.
+    pub outside: Outside,
+    /// The frame of a 2-D (r, z) table, `None` for a 3-D field.
+    pub axisymmetric: Option<Axisymmetric>,
+    /// What the files were.
+    pub info: FieldInfo,
+}
+
+/// A point outside the field where the policy is [`Outside::Error`]: the first particle found
+/// there (in index order) at the end of a step.
+#[derive(Debug, Clone, Copy, PartialEq, thiserror::Error)]
+#[error(
+    "particle {id} left the flow field at t = {time} s: position ({}, {}, {}) m is outside the field \
+     (fluid.flow.outside = \"error\"; \"nearest\" or \"zero\" let it go on)",
+    position.x, position.y, position.z
+)]
+pub struct OutsideField {
+    /// The particle's id.
+    pub id: u32,
+    /// Its position (m).
+    pub position: DVec3,
+    /// The time (s).
+    pub time: f64,
+}
+
+impl Field {
+    /// A field of these snapshots on `grid`; fills in what [`FieldInfo`] measures (cells,
+    /// nodes, bounds, speeds, spacing, gradient) over `info`'s files, format and array.
+    pub fn new(
+        grid: Grid,
+        snapshots: Vec<Snapshot>,
+        period: Option<f64>,
+        outside: Outside,
+        axisymmetric: Option<Axisymmetric>,
+        mut info: FieldInfo,
+    ) -> Field {
+        let (cells, nodes, bounds, spacing) = match &grid {
+            Grid::Structured(g) => {
+                let d = g.dims();
+                let cells = d.iter().map(|&n| (n - 1).max(1)).product();
+                let lo = DVec3::new(g.axes[0].lo, g.axes[1].lo, g.axes[2].lo);
+                let hi = DVec3::new(g.axes[0].hi, g.axes[1].hi, g.axes[2].hi);
+                let largest =
+                    g.axes.iter().map(|a| a.nodes.windows(2).map(|w| w[1] - w[0]).fold(0.0, f64::max));
+                (cells, d.iter().product(), (lo, hi), (g.smallest_spacing(), largest.fold(0.0, f64::max)))
+            }
+            Grid::Unstructured(g) => {
+                (g.cells(), g.nodes.len(), (g.bounds.mins, g.bounds.maxs), g.cell_size_range)
+            }
+        };
+        let speeds = snapshots.iter().flat_map(|s| s.values.iter().map(|v| v.length()));
+        let speed_range = speeds.fold((f64::INFINITY, 0.0f64), |(a, b), v| (a.min(v), b.max(v)));
+        info.cells = cells;
+        info.nodes = nodes;
+        info.bounds = bounds;
+        info.spacing = spacing;
+        info.speed_range = speed_range;
+        let mut field = Field { grid, snapshots, period, outside, axisymmetric, info };
+        field.info.largest_gradient = field.largest_gradient();
+        field
+    }
+
+    /// The field at time `t` (s), for the hot loop: the two snapshots around `t` and the weight
+    /// of the second, linear in time.
+    pub fn at(&self, t: f64) -> FieldAt<'_> {
+        let s = &self.snapshots;
+        let n = s.len();
+        let (first, last) = (s[0].time, s[n - 1].time);
+        if n == 1 {
+            return FieldAt { field: self, a: 0, b: 0, w: 0.0 };
+        }
+        let t = match self.period {
+            Some(p) => first + (t - first).rem_euclid(p),
+            None => t.clamp(first, last),
+        };
+        if t >= last {
+            // Only a periodic series gets here with t > last: from the last snapshot back to
+            // the first, reached at first + period.
+            return match self.period {
+                Some(p) if t > last => {
+                    FieldAt { field: self, a: n - 1, b: 0, w: (t - last) / (first + p - last) }
+                }
+                _ => FieldAt { field: self, a: n - 1, b: n - 1, w: 0.0 },
+            };
+        }
+        let b = s.partition_point(|x| x.time <= t).clamp(1, n - 1);
+        let a = b - 1;
+        FieldAt { field: self, a, b, w: (t - s[a].time) / (s[b].time - s[a].time) }
+    }
+
+    /// The point of the grid's frame that `x` maps to, and for an axisymmetric table the
+    /// radial and azimuthal unit vectors there.
+    #[inline]
+    fn to_grid(&self, x: DVec3) -> (DVec3, Option<(DVec3, DVec3, DVec3)>) {
+        match self.axisymmetric {
+            None => (x, None),
+            Some(f) => {
+                let rel = x - f.point;
+                let along = rel.dot(f.axis);
+                let perp = rel - along * f.axis;
+                let r = perp.length();
+                // On the axis u_r = 0 and u_θ = 0 (the table says so), so any radial direction
+                // does; zero keeps the value finite.
+                let e_r = if r > 0.0 { perp / r } else { DVec3::ZERO };
+                (DVec3::new(r, 0.0, along), Some((e_r, f.axis.cross(e_r), f.axis)))
+            }
+        }
+    }
+
+    /// Whether `x` lies in the field.
+    pub fn contains(&self, x: DVec3) -> bool {
+        let (q, _) = self.to_grid(x);
+        match &self.grid {
+            Grid::Structured(g) => g.contains(q),
+            Grid::Unstructured(g) => g.contains(q),
+        }
+    }
+
+    /// How far `x` lies outside the field (m), 0 inside: for `wetbounce check`, which must not
+    /// call a point on the field's boundary outside for a rounding error.
+    pub fn distance_outside(&self, x: DVec3) -> f64 {
+        let (q, _) = self.to_grid(x);
+        match &self.grid {
+            Grid::Structured(g) => (g.clamp(q) - q).length(),
+            Grid::Unstructured(g) => g.distance_outside(q),
+        }
+    }
+
+    /// The stencil at `x`'s grid point, whether the point is inside, and the axisymmetric frame.
+    #[inline]
+    fn stencil(&self, x: DVec3) -> (Stencil, bool, Option<(DVec3, DVec3, DVec3)>) {
+        let (q, frame) = self.to_grid(x);
+        let (s, inside) = match &self.grid {
+            Grid::Structured(g) => {
+                let inside = g.contains(q);
+                (g.stencil(if inside { q } else { g.clamp(q) }), inside)
+            }
+            Grid::Unstructured(g) => match g.stencil(q) {
+                Ok(s) => (s, true),
+                Err(s) => (s, false),
+            },
+        };
+        (s, inside, frame)
+    }
+
+    /// The velocity (m/s) at `x` at time `t` (s), for code outside the hot loop.
+    pub fn velocity(&self, x: DVec3, t: f64) -> DVec3 {
+        self.at(t).velocity(x)
+    }
+
+    /// `(∇u)ᵀ`-free form of the interpolant's velocity gradient at `x`: `J[j] = ∂u/∂x_j` of
+    /// the grid's values (1/s), in the grid's frame, snapshot `k`; for [`FieldInfo`].
+    fn gradient_in_grid(&self, s: &Stencil, k: usize) -> [DVec3; 3] {
+        let v = &self.snapshots[k].values;
+        let mut j = [DVec3::ZERO; 3];
+        for i in 0..8 {
+            let u = v[s.nodes[i] as usize];
+            j[0] += s.gradient[i].x * u;
+            j[1] += s.gradient[i].y * u;
+            j[2] += s.gradient[i].z * u;
+        }
+        j
+    }
+
+    /// The largest `|∂u_i/∂x_j|` (1/s) over the grid's cells, sampled at each cell's centre
+    /// for the stiffness of the flow (`1/|∇u|` is its shortest time scale).
+    pub fn largest_gradient(&self) -> f64 {
+        let centres: Vec<DVec3> = match &self.grid {
+            Grid::Structured(g) => {
+                let mid = |a: &structured::Axis| -> Vec<f64> {
+                    if a.nodes.len() == 1 {
+                        a.nodes.clone()
+                    } else {
+                        a.nodes.windows(2).map(|w| 0.5 * (w[0] + w[1])).collect()
+                    }
+                };
+                let (xs, ys, zs) = (mid(&g.axes[0]), mid(&g.axes[1]), mid(&g.axes[2]));
+                let mut c = Vec::with_capacity(xs.len() * ys.len() * zs.len());
+                for &z in &zs {
+                    for &y in &ys {
+                        for &x in &xs {
+                            c.push(DVec3::new(x, y, z));
+                        }
+                    }
+                }
+                c
+            }
+            Grid::Unstructured(g) => g.nodes[g.points..].to_vec(),
+        };
+        let mut largest = 0.0f64;
+        for q in centres {
+            let s = match &self.grid {
+                Grid::Structured(g) => g.stencil(q),
+                Grid::Unstructured(g) => match g.stencil(q) {
+                    Ok(s) | Err(s) => s,
+                },
+            };
+            for k in 0..self.snapshots.len() {
+                let j = self.gradient_in_grid(&s, k);
+                for c in j {
+                    largest = largest.max(c.abs().max_element());
+                }
+                if let Some(_f) = self.axisymmetric {
+                    // u_r / r, the hoop strain rate, is a gradient too in 3-D.
+                    let v = self.value(&s, k, 0, 0.0);
+                    if q.x > 0.0 {
+                        largest = largest.max((v.x / q.x).abs().max((v.y / q.x).abs()));
+                    }
+                }
+            }
+        }
+        largest
+    }
+
+    #[inline]
+    fn value(&self, s: &Stencil, a: usize, b: usize, w: f64) -> DVec3 {
+        let va = &self.snapshots[a].values;
+        let mut u = DVec3::ZERO;
+        if w == 0.0 {
+            for i in 0..8 {
+                u += s.weights[i] * va[s.nodes[i] as usize];
+            }
+        } else {
+            let vb = &self.snapshots[b].values;
+            for i in 0..8 {
+                let n = s.nodes[i] as usize;
+                u += s.weights[i] * ((1.0 - w) * va[n] + w * vb[n]);
+            }
+        }
+        u
+    }
+}
+
+/// A [`Field`] at one time, as a [`FlowField`].
+#[derive(Debug, Clone, Copy)]
+pub struct FieldAt<'a> {
+    field: &'a Field,
+    a: usize,
+    b: usize,
+    w: f64,
+}
+
+impl FlowField for FieldAt<'_> {
+    #[inline]
+    fn velocity(&self, x: DVec3) -> DVec3 {
+        let f = self.field;
+        let (s, inside, frame) = f.stencil(x);
+        if !inside && f.outside == Outside::Zero {
+            return DVec3::ZERO;
+        }
+        let u = f.value(&s, self.a, self.b, self.w);
+        match frame {
+            None => u,
+            Some((e_r, e_t, e_z)) => u.x * e_r + u.y * e_t + u.z * e_z,
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests;

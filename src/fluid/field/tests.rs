@@ -1,0 +1,251 @@
+use super::structured::{Axis, Structured};
+use super::unstructured::Unstructured;
+use super::*;
+use rand::{Rng, SeedableRng};
+use rand_chacha::ChaCha8Rng;
+
+/// A smooth field with every component varying along every axis.
+fn analytic(p: DVec3) -> DVec3 {
+    DVec3::new((2.0 * p.x).sin() * p.y.cos(), (p.x + p.z).cos() + p.y * p.y, p.y.sin() * p.z * p.z - p.x)
+}
+
+fn steady(grid: Grid, values: Vec<DVec3>, outside: Outside, axisymmetric: Option<Axisymmetric>) -> Field {
+    let snapshots = vec![Snapshot { time: 0.0, values }];
+    Field::new(grid, snapshots, None, outside, axisymmetric, FieldInfo::default())
+}
+
+/// Point data of `analytic` on an `n`-cell image of the unit cube.
+fn image(n: usize, f: impl Fn(DVec3) -> DVec3) -> Field {
+    let nodes: Vec<f64> = (0..=n).map(|i| i as f64 / n as f64).collect();
+    let axes = [0, 1, 2].map(|_| Axis::new(nodes.clone(), 0.0, 1.0));
+    let mut values = Vec::new();
+    for &z in &nodes {
+        for &y in &nodes {
+            for &x in &nodes {
+                values.push(f(DVec3::new(x, y, z)));
+            }
+        }
+    }
+    steady(Grid::Structured(Structured { axes }), values, Outside::Error, None)
+}
+
+/// The unit cube in `n³` hexahedra (VTK order), interior points moved by up to `jitter` of a
+/// cell so that the cells are not boxes; or each hexahedron in six tetrahedra.
+fn cube_mesh(n: usize, jitter: f64, tets: bool) -> (Vec<DVec3>, Vec<(u8, Vec<u64>)>) {
+    let mut rng = ChaCha8Rng::seed_from_u64(7);
+    let h = 1.0 / n as f64;
+    let id = |i: usize, j: usize, k: usize| (i + (n + 1) * (j + (n + 1) * k)) as u64;
+    let mut points = Vec::new();
+    for k in 0..=n {
+        for j in 0..=n {
+            for i in 0..=n {
+                let mut p = DVec3::new(i as f64, j as f64, k as f64) * h;
+                let interior = |a: usize| a > 0 && a < n;
+                if interior(i) && interior(j) && interior(k) {
+                    p += DVec3::new(
+                        rng.random_range(-1.0..1.0),
+                        rng.random_range(-1.0..1.0),
+                        rng.random_range(-1.0..1.0),
+                    ) * (jitter * h);
+                }
+                points.push(p);
+            }
+        }
+    }
+    let mut cells = Vec::new();
+    for k in 0..n {
+        for j in 0..n {
+            for i in 0..n {
+                let v = [
+                    id(i, j, k),
+                    id(i + 1, j, k),
+                    id(i + 1, j + 1, k),
+                    id(i, j + 1, k),
+                    id(i, j, k + 1),
+                    id(i + 1, j, k + 1),
+                    id(i + 1, j + 1, k + 1),
+                    id(i, j + 1, k + 1),
+                ];
+                if tets {
+                    // Kuhn's six tetrahedra along the diagonal 0–6.
+                    for path in [[1, 2], [3, 2], [1, 5], [4, 5], [3, 7], [4, 7]] {
+                        cells.push((10u8, vec![v[0], v[path[0]], v[path[1]], v[6]]));
+                    }
+                } else {
+                    cells.push((12u8, v.to_vec()));
+                }
+            }
+        }
+    }
+    (points, cells)
+}
+
+fn mesh_field(n: usize, jitter: f64, tets: bool, f: impl Fn(DVec3) -> DVec3) -> Field {
+    let (points, cells) = cube_mesh(n, jitter, tets);
+    let mesh = Unstructured::new(points, &cells).unwrap();
+    let values = mesh.nodes[..mesh.points].iter().map(|&p| f(p)).collect::<Vec<_>>();
+    // Centres: the mean of the cell's vertex values, as the reader does for point data.
+    let mut all = values.clone();
+    for c in 0..mesh.cells() {
+        let v = &mesh.cell_points[mesh.cell_offsets[c] as usize..mesh.cell_offsets[c + 1] as usize];
+        all.push(v.iter().map(|&i| values[i as usize]).sum::<DVec3>() / v.len() as f64);
+    }
+    steady(Grid::Unstructured(mesh), all, Outside::Error, None)
+}
+
+/// Largest error against `analytic` over random points of `[lo, hi]³`.
+fn max_error(field: &Field, lo: f64, hi: f64) -> f64 {
+    let mut rng = ChaCha8Rng::seed_from_u64(3);
+    let f = field.at(0.0);
+    (0..400)
+        .map(|_| {
+            let p = DVec3::new(rng.random_range(lo..hi), rng.random_range(lo..hi), rng.random_range(lo..hi));
+            (f.velocity(p) - analytic(p)).length()
+        })
+        .fold(0.0, f64::max)
+}
+
+/// The observed orders between successive halvings of the grid spacing.
+fn orders(errors: &[f64]) -> Vec<f64> {
+    errors.windows(2).map(|e| (e[0] / e[1]).log2()).collect()
+}
+
+#[test]
+fn trilinear_field_is_second_order_in_grid_spacing() {
+    let errors: Vec<f64> = [8, 16, 32].iter().map(|&n| max_error(&image(n, analytic), 0.0, 1.0)).collect();
+    for p in orders(&errors) {
+        assert!((1.8..2.3).contains(&p), "errors {errors:?}, orders {:?}", orders(&errors));
+    }
+}
+
+#[test]
+fn trilinear_field_reproduces_a_trilinear_field_exactly() {
+    let f = |p: DVec3| DVec3::new(1.0 + 2.0 * p.x - p.y + 0.5 * p.x * p.y * p.z, p.z, -3.0 * p.y * p.z);
+    let field = image(5, f);
+    let at = field.at(0.0);
+    for p in [DVec3::new(0.13, 0.77, 0.5), DVec3::new(1.0, 0.0, 0.31), DVec3::splat(0.999)] {
+        assert!((at.velocity(p) - f(p)).length() < 1e-14);
+    }
+}
+
+#[test]
+fn cell_data_on_a_structured_grid_is_second_order_up_to_its_faces() {
+    // Cell data: values at the centres; the half cell at each face is reached by extending
+    // the outer cells' lines.
+    let field = |n: usize| {
+        let points: Vec<f64> = (0..=n).map(|i| i as f64 / n as f64).collect();
+        let centres: Vec<f64> = points.windows(2).map(|w| 0.5 * (w[0] + w[1])).collect();
+        let axes = [0, 1, 2].map(|_| Axis::new(centres.clone(), 0.0, 1.0));
+        let mut values = Vec::new();
+        for &z in &centres {
+            for &y in &centres {
+                for &x in &centres {
+                    values.push(analytic(DVec3::new(x, y, z)));
+                }
+            }
+        }
+        steady(Grid::Structured(Structured { axes }), values, Outside::Error, None)
+    };
+    let errors: Vec<f64> = [8, 16, 32].iter().map(|&n| max_error(&field(n), 0.0, 1.0)).collect();
+    for p in orders(&errors) {
+        // At least second order (the coarse grids converge a little faster).
+        assert!((1.8..2.6).contains(&p), "errors {errors:?}");
+    }
+}
+
+#[test]
+fn tetrahedral_field_is_second_order_in_cell_size() {
+    let errors: Vec<f64> =
+        [4, 8, 16].iter().map(|&n| max_error(&mesh_field(n, 0.0, true, analytic), 0.0, 1.0)).collect();
+    for p in orders(&errors) {
+        assert!((1.7..2.4).contains(&p), "errors {errors:?}, orders {:?}", orders(&errors));
+    }
+}
+
+#[test]
+fn hexahedral_field_is_second_order_in_cell_size_on_distorted_cells() {
+    let errors: Vec<f64> =
+        [4, 8, 16].iter().map(|&n| max_error(&mesh_field(n, 0.2, false, analytic), 0.0, 1.0)).collect();
+    for p in orders(&errors) {
+        assert!((1.7..2.4).contains(&p), "errors {errors:?}, orders {:?}", orders(&errors));
+    }
+}
+
+#[test]
+fn unstructured_field_reproduces_a_linear_field_exactly() {
+    let f = |p: DVec3| DVec3::new(1.0 + 2.0 * p.x - p.y, 3.0 * p.z, -p.x + 0.5 * p.y);
+    for tets in [false, true] {
+        let field = mesh_field(3, 0.25, tets, f);
+        let mut rng = ChaCha8Rng::seed_from_u64(11);
+        let at = field.at(0.0);
+        for _ in 0..200 {
+            let p = DVec3::new(rng.random(), rng.random(), rng.random());
+            assert!((at.velocity(p) - f(p)).length() < 1e-12, "tets {tets} at {p}");
+            assert!(field.contains(p));
+        }
+    }
+}
+
+#[test]
+fn outside_policies_give_an_error_flag_zero_or_the_nearest_value() {
+    let f = |p: DVec3| DVec3::new(p.x, 2.0 * p.y, 1.0);
+    let mut field = image(4, f);
+    let out = DVec3::new(1.5, 0.5, -0.25);
+    assert!(!field.contains(out));
+    field.outside = Outside::Nearest;
+    assert!((field.velocity(out, 0.0) - DVec3::new(1.0, 1.0, 1.0)).length() < 1e-14);
+    field.outside = Outside::Zero;
+    assert_eq!(field.velocity(out, 0.0), DVec3::ZERO);
+    let mut mesh = mesh_field(3, 0.0, true, f);
+    assert!(!mesh.contains(out));
+    mesh.outside = Outside::Nearest;
+    assert!((mesh.velocity(out, 0.0) - DVec3::new(1.0, 1.0, 1.0)).length() < 1e-12);
+    mesh.outside = Outside::Zero;
+    assert_eq!(mesh.velocity(out, 0.0), DVec3::ZERO);
+}
+
+#[test]
+fn axisymmetric_table_turns_its_radial_velocity_about_the_axis() {
+    // u_r = r, u_θ = 0.5 r, u_z = 1 − r² on r = 0 … 1, z = −1 … 1, axis along x through (0, 2, 0).
+    let r: Vec<f64> = (0..=20).map(|i| i as f64 / 20.0).collect();
+    let z: Vec<f64> = (0..=4).map(|i| -1.0 + i as f64 / 2.0).collect();
+    let mut values = Vec::new();
+    for _ in &z {
+        for &r in &r {
+            values.push(DVec3::new(r, 0.5 * r, 1.0 - r * r));
+        }
+    }
+    let axes = [Axis::new(r, 0.0, 1.0), Axis::new(vec![0.0], 0.0, 0.0), Axis::new(z, -1.0, 1.0)];
+    let frame = Axisymmetric { point: DVec3::new(0.0, 2.0, 0.0), axis: DVec3::X };
+    let field = steady(Grid::Structured(Structured { axes }), values, Outside::Error, Some(frame));
+    let p = DVec3::new(0.3, 2.0, 0.5); // r = 0.5 along +z from the axis
+    let u = field.velocity(p, 0.0);
+    // e_r = +z, e_θ = x × z = −y.
+    let expected = DVec3::new(1.0 - 0.25, -0.25, 0.5);
+    assert!((u - expected).length() < 2e-3, "{u}"); // the table's linear error in u_z
+    assert_eq!(field.velocity(DVec3::new(0.7, 2.0, 0.0), 0.0).z, 0.0);
+    assert!(field.contains(DVec3::new(-0.9, 2.6, 0.79)));
+    assert!(!field.contains(DVec3::new(0.0, 2.0, 1.01)));
+    assert!(!field.contains(DVec3::new(1.2, 2.0, 0.0)));
+}
+
+#[test]
+fn time_series_is_linear_in_time_and_periodic_when_asked() {
+    let grid = || {
+        let axes = [0, 1, 2].map(|_| Axis::new(vec![0.0, 1.0], 0.0, 1.0));
+        Grid::Structured(Structured { axes })
+    };
+    let snap = |time: f64, u: f64| Snapshot { time, values: vec![DVec3::new(u, 0.0, 0.0); 8] };
+    let series = vec![snap(1.0, 0.0), snap(2.0, 10.0), snap(4.0, 20.0)];
+    let p = DVec3::splat(0.5);
+    let field = Field::new(grid(), series.clone(), None, Outside::Error, None, FieldInfo::default());
+    let u = |f: &Field, t: f64| f.velocity(p, t).x;
+    assert_eq!(u(&field, 0.0), 0.0); // held before the first
+    assert_eq!(u(&field, 1.5), 5.0);
+    assert_eq!(u(&field, 3.0), 15.0);
+    assert_eq!(u(&field, 9.0), 20.0); // held after the last
+    let periodic = Field::new(grid(), series, Some(4.0), Outside::Error, None, FieldInfo::default());
+    assert_eq!(u(&periodic, 4.5), 10.0); // halfway from the last (t = 4) back to the first (t = 5)
+    assert_eq!(u(&periodic, 6.0), 10.0); // t = 6 is t = 2
+    assert_eq!(u(&periodic, 0.0), 20.0); // t = 0 is t = 4, the last snapshot
+}

@@ -1,0 +1,289 @@
+//! Unstructured grids (VTK unstructured grids, and structured grids of hexahedra): every cell
+//! cut into tetrahedra around its centre, located with a bounding-volume hierarchy, and
+//! interpolated linearly (barycentric) inside the tetrahedron.
+//!
+//! The cut is OpenFOAM's `cellPoint` idea: each face (quadrilaterals split in two triangles)
+//! and the cell's centre make one tetrahedron. A quadrilateral is split along the diagonal
+//! from its lowest-numbered vertex, so the two cells sharing a face split it the same way and
+//! the tetrahedra of neighbouring cells meet face to face: the interpolant is continuous. A
+//! linear field is reproduced exactly, so the interpolation is second order in the cell size.
+
+use super::structured::Stencil;
+use glam::DVec3;
+use parry3d_f64::bounding_volume::{Aabb, BoundingVolume};
+use parry3d_f64::partitioning::{Bvh, BvhBuildStrategy, BvhNode};
+use parry3d_f64::query::PointQuery;
+use parry3d_f64::shape::Tetrahedron;
+
+/// The VTK linear 3-D cell types the reader accepts, with their faces in VTK's vertex order.
+pub fn cell_faces(vtk_type: u8) -> Option<&'static [&'static [usize]]> {
+    Some(match vtk_type {
+        10 => &[&[0, 1, 2], &[0, 1, 3], &[1, 2, 3], &[0, 2, 3]],
+        // A voxel is read as a hexahedron after reordering its vertices (`VOXEL_AS_HEX`).
+        11 | 12 => {
+            &[&[0, 3, 2, 1], &[4, 5, 6, 7], &[0, 1, 5, 4], &[1, 2, 6, 5], &[2, 3, 7, 6], &[3, 0, 4, 7]]
+        }
+        13 => &[&[0, 1, 2], &[3, 5, 4], &[0, 3, 4, 1], &[1, 4, 5, 2], &[2, 5, 3, 0]],
+        14 => &[&[0, 3, 2, 1], &[0, 1, 4], &[1, 2, 4], &[2, 3, 4], &[3, 0, 4]],
+        _ => return None,
+    })
+}
+
+/// VTK's voxel vertex order as a hexahedron's.
+pub const VOXEL_AS_HEX: [usize; 8] = [0, 1, 3, 2, 4, 5, 7, 6];
+
+/// Number of vertices of each accepted cell type.
+pub fn cell_size(vtk_type: u8) -> Option<usize> {
+    Some(match vtk_type {
+        10 => 4,
+        11 | 12 => 8,
+        13 => 6,
+        14 => 5,
+        _ => return None,
+    })
+}
+
+/// Why a cell cannot be used.
+#[derive(Debug, Clone, PartialEq)]
+pub enum CellProblem {
+    /// (cell, VTK type): a cell type other than the linear 3-D ones.
+    Type(usize, u8),
+    /// (cell, point): a cell names a point that does not exist.
+    Point(usize, u64),
+    /// (cell, volume in m³): a cell has no volume (its vertices lie in a plane, a line or a point).
+    Degenerate(usize, f64),
+}
+
+/// An unstructured grid cut into tetrahedra.
+#[derive(Debug, Clone)]
+pub struct Unstructured {
+    /// The grid's points, then one centre per cell (the mean of its vertices).
+    pub nodes: Vec<DVec3>,
+    /// Number of the grid's own points (the centres follow them in `nodes`).
+    pub points: usize,
+    /// Tetrahedra as four indices into `nodes`.
+    pub tets: Vec<[u32; 4]>,
+    /// Cell `c`'s tetrahedra are `tets[cell_tets[c]..cell_tets[c + 1]]`.
+    pub cell_tets: Vec<u32>,
+    /// Each cell's vertices (indices into `nodes`) as `cell_points[cell_offsets[c]..cell_offsets[c + 1]]`.
+    pub cell_points: Vec<u32>,
+    /// See [`Unstructured::cell_points`].
+    pub cell_offsets: Vec<u32>,
+    /// Cells by their (slightly widened) bounding boxes.
+    bvh: Bvh,
+    /// Each cell's bounding box, the leaves of `bvh`.
+    boxes: Vec<Aabb>,
+    /// Bounds of the whole grid.
+    pub bounds: Aabb,
+    /// The smallest and largest cell size (m): the cube root of the cell's volume.
+    pub cell_size_range: (f64, f64),
+}
+
+/// Barycentric coordinates of `p` in the tetrahedron `t`, and its six-fold signed volume.
+#[inline]
+fn barycentric(t: [DVec3; 4], p: DVec3) -> ([f64; 4], f64) {
+    let (e1, e2, e3, q) = (t[1] - t[0], t[2] - t[0], t[3] - t[0], p - t[0]);
+    let vol = e1.dot(e2.cross(e3));
+    let l1 = q.dot(e2.cross(e3)) / vol;
+    let l2 = e1.dot(q.cross(e3)) / vol;
+    let l3 = e1.dot(e2.cross(q)) / vol;
+    ([1.0 - l1 - l2 - l3, l1, l2, l3], vol)
+}
+
+/// The gradients of the four barycentric coordinates of tetrahedron `t` (1/m).
+fn barycentric_gradients(t: [DVec3; 4]) -> [DVec3; 4] {
+    let (e1, e2, e3) = (t[1] - t[0], t[2] - t[0], t[3] - t[0]);
+    let vol = e1.dot(e2.cross(e3));
+    let g1 = e2.cross(e3) / vol;
+    let g2 = e3.cross(e1) / vol;
+    let g3 = e1.cross(e2) / vol;
+    [-(g1 + g2 + g3), g1, g2, g3]
+}
+
+/// A point counts as inside a tetrahedron when no barycentric coordinate is below this: the
+/// round-off of a point on a shared face, far below any cell's size.
+const INSIDE: f64 = -1e-10;
+
+impl Unstructured {
+    /// Cuts the cells (each a VTK type and its point indices) into tetrahedra and builds the
+    /// search tree.
+    pub fn new(points: Vec<DVec3>, cells: &[(u8, Vec<u64>)]) -> Result<Unstructured, CellProblem> {
+        let n_points = points.len();
+        let mut nodes = points;
+        let mut tets = Vec::new();
+        let mut cell_tets = vec![0u32];
+        let mut cell_points = Vec::new();
+        let mut cell_offsets = vec![0u32];
+        let mut boxes = Vec::with_capacity(cells.len());
+        let (mut small, mut large) = (f64::INFINITY, 0.0f64);
+        for (c, (ty, verts)) in cells.iter().enumerate() {
+            let faces = cell_faces(*ty).ok_or(CellProblem::Type(c, *ty))?;
+            let mut v: Vec<u32> = Vec::with_capacity(verts.len());
+            for &p in verts {
+                if p as usize >= n_points {
+                    return Err(CellProblem::Point(c, p));
+                }
+                v.push(p as u32);
+            }
+            if *ty == 11 {
+                v = VOXEL_AS_HEX.iter().map(|&i| v[i]).collect();
+            }
+            let centre_index = nodes.len() as u32;
+            let centre = v.iter().map(|&i| nodes[i as usize]).sum::<DVec3>() / v.len() as f64;
+            let mut volume = 0.0;
+            for face in faces {
+                let f: Vec<u32> = face.iter().map(|&i| v[i]).collect();
+                // Split a quadrilateral along the diagonal from its lowest-numbered vertex,
+                // so that both cells sharing it cut it the same way.
+                let tris: Vec<[u32; 3]> = if f.len() == 3 {
+                    vec![[f[0], f[1], f[2]]]
+                } else {
+                    let k = (0..4).min_by_key(|&i| f[i]).unwrap_or(0);
+                    let q = |i: usize| f[(k + i) % 4];
+                    vec![[q(0), q(1), q(2)], [q(0), q(2), q(3)]]
+                };
+                for t in tris {
+                    let tet = [t[0], t[1], t[2], centre_index];
+                    let corners = tet.map(|i| if i == centre_index { centre } else { nodes[i as usize] });
+                    let (e1, e2, e3) =
+                        (corners[1] - corners[0], corners[2] - corners[0], corners[3] - corners[0]);
+                    let vol = e1.dot(e2.cross(e3)).abs() / 6.0;
+                    // Faces are oriented outwards or inwards depending on the writer; the
+                    // volume is taken unsigned and a flat tetrahedron (a collapsed edge) is
+                    // left out: it holds no point.
+                    volume += vol;
+                    if vol > 0.0 {
+                        tets.push(tet);
+                    }
+                }
+            }
+            let bb = Aabb::from_points(v.iter().map(|&i| nodes[i as usize]));
+            let diag = (bb.maxs - bb.mins).length();
+            if volume.is_nan() || volume <= 1e-12 * diag * diag * diag {
+                return Err(CellProblem::Degenerate(c, volume));
+            }
+            let size = volume.cbrt();
+            small = small.min(size);
+            large = large.max(size);
+            let pad = DVec3::splat(1e-9 * diag);
+            boxes.push(Aabb::new(bb.mins - pad, bb.maxs + pad));
+            nodes.push(centre);
+            cell_tets.push(tets.len() as u32);
+            cell_points.extend_from_slice(&v);
+            cell_offsets.push(cell_points.len() as u32);
+        }
+        let bounds = boxes.iter().fold(Aabb::new_invalid(), |a, b| a.merged(b));
+        let bvh = Bvh::from_leaves(BvhBuildStrategy::Binned, &boxes);
+        Ok(Unstructured {
+            nodes,
+            points: n_points,
+            tets,
+            cell_tets,
+            cell_points,
+            cell_offsets,
+            bvh,
+            boxes,
+            bounds,
+            cell_size_range: (small, large),
+        })
+    }
+
+    /// Number of cells.
+    pub fn cells(&self) -> usize {
+        self.cell_tets.len() - 1
+    }
+
+    fn corners(&self, t: usize) -> [DVec3; 4] {
+        self.tets[t].map(|i| self.nodes[i as usize])
+    }
+
+    /// The tetrahedron holding `p`, among those of the cells whose boxes hold it.
+    fn locate(&self, p: DVec3) -> Result<usize, ()> {
+        for cell in self.bvh.leaves(|n: &BvhNode| n.aabb().contains_local_point(p)) {
+            let c = cell as usize;
+            if !self.boxes[c].contains_local_point(p) {
+                continue;
+            }
+            for t in self.cell_tets[c] as usize..self.cell_tets[c + 1] as usize {
+                let (l, _) = barycentric(self.corners(t), p);
+                let worst = l[0].min(l[1]).min(l[2]).min(l[3]);
+                if worst >= INSIDE {
+                    return Ok(t);
+                }
+            }
+        }
+        Err(())
+    }
+
+    /// Whether `p` lies in a cell of the grid.
+    pub fn contains(&self, p: DVec3) -> bool {
+        self.locate(p).is_ok()
+    }
+
+    /// The stencil at `p`: the tetrahedron holding it, or when none does, the value at the
+    /// grid's nearest point (`Err`, so that the caller applies its policy).
+    #[allow(clippy::result_large_err)] // a stencil either way; Err says the point was outside
+    pub fn stencil(&self, p: DVec3) -> Result<Stencil, Stencil> {
+        match self.locate(p) {
+            Ok(t) => Ok(self.tet_stencil(t, p, false)),
+            Err(_) => {
+                let (t, q) = self.nearest(p);
+                Err(self.tet_stencil(t, q, true))
+            }
+        }
+    }
+
+    /// How far `p` lies outside the grid (m), 0 inside.
+    pub fn distance_outside(&self, p: DVec3) -> f64 {
+        if self.contains(p) { 0.0 } else { (self.nearest(p).1 - p).length() }
+    }
+
+    /// The tetrahedron nearest `p` and the nearest point in it: the candidates of a box
+    /// around `p` that doubles until it holds a tetrahedron nearer than its half-size.
+    fn nearest(&self, p: DVec3) -> (usize, DVec3) {
+        let q = p.clamp(self.bounds.mins, self.bounds.maxs);
+        let mut half = self.cell_size_range.1.max((p - q).length());
+        loop {
+            let query = Aabb::new(p - DVec3::splat(half), p + DVec3::splat(half));
+            let mut best: Option<(usize, DVec3, f64)> = None;
+            for cell in self.bvh.intersect_aabb(&query) {
+                let c = cell as usize;
+                for t in self.cell_tets[c] as usize..self.cell_tets[c + 1] as usize {
+                    let [a, b, cc, d] = self.corners(t);
+                    let on = Tetrahedron::new(a, b, cc, d).project_local_point(p, true).point;
+                    let dist = (on - p).length();
+                    if best.is_none_or(|(_, _, b)| dist < b) {
+                        best = Some((t, on, dist));
+                    }
+                }
+            }
+            match best {
+                Some((t, on, dist)) if dist <= half => return (t, on),
+                _ => half *= 2.0,
+            }
+        }
+    }
+
+    fn tet_stencil(&self, t: usize, p: DVec3, clamp: bool) -> Stencil {
+        let corners = self.corners(t);
+        let (mut l, _) = barycentric(corners, p);
+        let gradient = if clamp {
+            // `p` is the nearest point of the grid, on this tetrahedron's surface up to
+            // round-off. Outside the grid the value is constant along the outward direction:
+            // no gradient is claimed there.
+            l = l.map(|x| x.max(0.0));
+            let sum: f64 = l.iter().sum();
+            l = l.map(|x| x / sum);
+            [DVec3::ZERO; 4]
+        } else {
+            barycentric_gradients(corners)
+        };
+        let mut s = Stencil::default();
+        for i in 0..4 {
+            s.nodes[i] = self.tets[t][i];
+            s.weights[i] = l[i];
+            s.gradient[i] = gradient[i];
+        }
+        s
+    }
+}

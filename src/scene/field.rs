@@ -1,0 +1,263 @@
+//! `fluid.flow` of `type = "field"`: the keys, the files (one, a list with times, or a `.pvd`
+//! collection) and the [`Field`] they make. Errors name the key and, for a file, the file.
+
+use super::error::Invalid;
+use super::error::check::{self, only};
+use super::error::fmt::num;
+use super::ranges::{SPEED, TIME};
+use super::schema::{DataSpec, FlowSpec, OutsideSpec, Vec3Spec};
+use crate::fluid::field::read::{self, Loaded, Request};
+use crate::fluid::field::{Axisymmetric, DataAt, Field, FieldInfo, Grid, Outside, Snapshot};
+use crate::fluid::{Flow, SharedField};
+use std::path::{Path, PathBuf};
+use std::sync::Arc;
+
+/// The keys of a field flow.
+const KEYS: [&str; 10] =
+    ["file", "files", "times", "array", "data", "outside", "axisymmetric", "point", "axis", "period"];
+
+/// Refuses the field's own keys in a flow of another type (`what`).
+pub(super) fn forbid_field_keys(f: &FlowSpec, what: &str) -> Result<(), Invalid> {
+    let present = field_keys_present(f);
+    for (key, there) in present {
+        if there && !matches!(key, "point" | "axis") {
+            return Err(Invalid::new(
+                format!("fluid.flow.{key}"),
+                format!("not a key of {what} (it belongs to type = \"field\")"),
+            ));
+        }
+    }
+    Ok(())
+}
+
+fn field_keys_present(f: &FlowSpec) -> [(&'static str, bool); 10] {
+    [
+        ("file", f.file.is_some()),
+        ("files", f.files.is_some()),
+        ("times", f.times.is_some()),
+        ("array", f.array.is_some()),
+        ("data", f.data.is_some()),
+        ("outside", f.outside.is_some()),
+        ("axisymmetric", f.axisymmetric.is_some()),
+        ("point", f.point.is_some()),
+        ("axis", f.axis.is_some()),
+        ("period", f.period.is_some()),
+    ]
+}
+
+/// Builds a field flow; files are read relative to `base`.
+pub(super) fn build_field(f: &FlowSpec, base: &Path) -> Result<Flow, Invalid> {
+    let k = |field: &str| format!("fluid.flow.{field}");
+    let what = "a field flow";
+    let mut present: Vec<(&str, bool)> = field_keys_present(f).to_vec();
+    present.extend([
+        ("velocity", f.velocity.is_some()),
+        ("radius", f.radius.is_some()),
+        ("mean_velocity", f.mean_velocity.is_some()),
+        ("max_velocity", f.max_velocity.is_some()),
+    ]);
+    only("fluid.flow", &present, &KEYS, what)?;
+    let axisymmetric = f.axisymmetric.unwrap_or(false);
+    if !axisymmetric {
+        for key in ["point", "axis"] {
+            if present.iter().any(|&(n, there)| n == key && there) {
+                return Err(Invalid::new(k(key), "only with axisymmetric = true (the table's axis)"));
+            }
+        }
+    }
+    // The snapshots: (file key, path, time).
+    let mut entries: Vec<(String, PathBuf, f64)> = Vec::new();
+    match (&f.file, &f.files) {
+        (Some(_), Some(_)) => {
+            return Err(Invalid::new(
+                k("files"),
+                "give either file (one file or a .pvd) or files with times, not both",
+            ));
+        }
+        (None, None) => {
+            return Err(Invalid::new(
+                k("file"),
+                "missing: a field flow needs file (a VTK file or a .pvd) or files",
+            ));
+        }
+        (Some(file), None) => {
+            if f.times.is_some() {
+                return Err(Invalid::new(k("times"), "only with files = [...] (a .pvd gives its own times)"));
+            }
+            let path = base.join(file);
+            if path.extension().and_then(|e| e.to_str()) == Some("pvd") {
+                for (i, (name, time)) in
+                    read_pvd(&path).map_err(|m| Invalid::new(k("file"), m))?.into_iter().enumerate()
+                {
+                    let dir = path.parent().unwrap_or(Path::new(""));
+                    entries.push((format!("{} (data set {i} of {file})", k("file")), dir.join(name), time));
+                }
+            } else {
+                entries.push((k("file"), path, 0.0));
+            }
+        }
+        (None, Some(files)) => {
+            let times = f.times.as_ref().ok_or_else(|| {
+                Invalid::new(k("times"), "missing: files need their times (s), one per file, increasing")
+            })?;
+            if times.len() != files.len() || files.is_empty() {
+                return Err(Invalid::new(
+                    k("times"),
+                    format!("needs one time per file: {} files, {} times", files.len(), times.len()),
+                ));
+            }
+            for (i, (file, &t)) in files.iter().zip(times).enumerate() {
+                let t = check::finite(&format!("{}[{i}]", k("times")), t)?;
+                entries.push((format!("{}[{i}]", k("files")), base.join(file), t));
+            }
+        }
+    }
+    for (i, w) in entries.windows(2).enumerate() {
+        if w[1].2 <= w[0].2 {
+            let key = if f.files.is_some() { format!("{}[{}]", k("times"), i + 1) } else { k("file") };
+            return Err(Invalid::new(
+                key,
+                format!(
+                    "the snapshots' times must increase: {} at {} s comes after {} at {} s",
+                    w[1].1.display(),
+                    num(w[1].2),
+                    w[0].1.display(),
+                    num(w[0].2)
+                ),
+            ));
+        }
+    }
+    let period = match f.period {
+        None => None,
+        Some(p) => {
+            let p = check::positive_in(&k("period"), p, &TIME)?;
+            let span = entries[entries.len() - 1].2 - entries[0].2;
+            if entries.len() < 2 || p <= span {
+                return Err(Invalid::new(
+                    k("period"),
+                    format!(
+                        "must exceed the series' span ({} s from the first snapshot to the last) and needs two \
+                         snapshots or more, got {} s",
+                        num(span),
+                        num(p)
+                    ),
+                ));
+            }
+            Some(p)
+        }
+    };
+    let frame = if axisymmetric {
+        let point = check::point(&k("point"), f.point.unwrap_or(Vec3Spec([0.0; 3])))?;
+        let axis = check::direction(&k("axis"), f.axis.unwrap_or(Vec3Spec([0.0, 0.0, 1.0])))?;
+        Some(Axisymmetric { point, axis })
+    } else {
+        None
+    };
+    let request = Request {
+        array: f.array.as_deref(),
+        data: f.data.map(|d| match d {
+            DataSpec::Point => DataAt::Point,
+            DataSpec::Cell => DataAt::Cell,
+        }),
+        axisymmetric,
+    };
+    let mut first: Option<Loaded> = None;
+    let mut snapshots = Vec::new();
+    for (key, path, time) in &entries {
+        let mut loaded = read::load(path, request).map_err(|e| Invalid::new(key.clone(), e.to_string()))?;
+        if let Some(f0) = &first
+            && !same_grid(&f0.grid, &loaded.grid)
+        {
+            return Err(Invalid::new(
+                key.clone(),
+                format!(
+                    "{}: its grid differs from {}'s: every snapshot of a series must be on the same grid",
+                    path.display(),
+                    entries[0].1.display()
+                ),
+            ));
+        }
+        let fastest = loaded.values.iter().map(|v| v.length()).fold(0.0, f64::max);
+        if fastest > SPEED.max {
+            return Err(Invalid::new(
+                key.clone(),
+                format!(
+                    "{}: a velocity of {} m/s is beyond the speeds the engine takes (≤ {} m/s)",
+                    path.display(),
+                    num(fastest),
+                    num(SPEED.max)
+                ),
+            ));
+        }
+        snapshots.push(Snapshot { time: *time, values: std::mem::take(&mut loaded.values) });
+        if first.is_none() {
+            first = Some(loaded);
+        }
+    }
+    let Some(first) = first else {
+        return Err(Invalid::new(k("file"), "the collection names no data set"));
+    };
+    let info = FieldInfo {
+        files: entries.iter().map(|e| e.1.clone()).collect(),
+        format: first.format.to_string(),
+        array: format!(
+            "\"{}\" ({} data)",
+            first.array,
+            match first.data {
+                DataAt::Point => "point",
+                DataAt::Cell => "cell",
+            }
+        ),
+        ..FieldInfo::default()
+    };
+    let outside = match f.outside.unwrap_or(OutsideSpec::Error) {
+        OutsideSpec::Error => Outside::Error,
+        OutsideSpec::Zero => Outside::Zero,
+        OutsideSpec::Nearest => Outside::Nearest,
+    };
+    let field = Field::new(first.grid, snapshots, period, outside, frame, info);
+    Ok(Flow::Field(SharedField(Arc::new(field))))
+}
+
+/// Whether two snapshots' grids are the same (same nodes, same cells).
+fn same_grid(a: &Grid, b: &Grid) -> bool {
+    match (a, b) {
+        (Grid::Structured(a), Grid::Structured(b)) => {
+            a.axes.iter().zip(&b.axes).all(|(x, y)| x.nodes == y.nodes)
+        }
+        (Grid::Unstructured(a), Grid::Unstructured(b)) => a.nodes == b.nodes && a.tets == b.tets,
+        _ => false,
+    }
+}
+
+/// The data sets of a ParaView collection (`.pvd`): each `<DataSet timestep="…" file="…"/>`,
+/// file and time, in the order given.
+fn read_pvd(path: &Path) -> Result<Vec<(String, f64)>, String> {
+    let text = std::fs::read_to_string(path)
+        .map_err(|e| format!("{}: cannot read the collection: {e}", path.display()))?;
+    if !text.contains("<Collection") {
+        return Err(format!("{}: not a ParaView collection (no <Collection>)", path.display()));
+    }
+    let mut out = Vec::new();
+    for (i, tag) in text.split("<DataSet").skip(1).enumerate() {
+        let tag = tag.split('>').next().unwrap_or("");
+        let attr = |name: &str| -> Option<String> {
+            let at = tag.find(&format!(" {name}="))? + name.len() + 2;
+            let quote = tag[at..].chars().next()?;
+            let rest = &tag[at + 1..];
+            Some(rest[..rest.find(quote)?].to_string())
+        };
+        let file = attr("file").ok_or_else(|| format!("{}: data set {i} has no file", path.display()))?;
+        let time = match attr("timestep") {
+            Some(t) => t.trim().parse::<f64>().ok().filter(|t| t.is_finite()).ok_or_else(|| {
+                format!("{}: data set {i} ({file}) has timestep \"{t}\", not a finite number", path.display())
+            })?,
+            None => return Err(format!("{}: data set {i} ({file}) has no timestep", path.display())),
+        };
+        out.push((file, time));
+    }
+    if out.is_empty() {
+        return Err(format!("{}: the collection names no data set", path.display()));
+    }
+    Ok(out)
+}
