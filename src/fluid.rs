@@ -139,10 +139,12 @@ impl Flow {
     /// sphere takes in the flow (PHYSICS.md §9). Zero in a quiescent or uniform flow; in the
     /// pipe, with `u = u_max (1 − ρ²/R²) e` and `ρ` the distance from the axis,
     /// `∇×u = ∇u_z × e = −(2 u_max / R²) ρ⃗ × e`, so `½ ∇×u = (u_max / R²) e × ρ⃗` inside the
-    /// pipe and 0 outside (where the flow is taken as still).
-    pub fn half_vorticity(&self, x: DVec3) -> DVec3 {
-        match *self {
+    /// pipe and 0 outside (where the flow is taken as still). In a field, the curl of the
+    /// interpolant at time `t` (s) by central differences (see [`field::Field::half_vorticity`]).
+    pub fn half_vorticity(&self, x: DVec3, t: f64) -> DVec3 {
+        match self {
             Flow::Quiescent | Flow::Uniform(_) => DVec3::ZERO,
+            Flow::Field(f) => f.0.half_vorticity(x, t),
             Flow::Poiseuille(p) => {
                 let rel = x - p.point;
                 let across = rel - rel.dot(p.axis) * p.axis;
@@ -180,8 +182,8 @@ mod tests {
         let d = |e: DVec3| (p.velocity(x + h * e) - p.velocity(x - h * e)) / (2.0 * h);
         let (dx, dy, dz) = (d(DVec3::X), d(DVec3::Y), d(DVec3::Z));
         let curl = DVec3::new(dy.z - dz.y, dz.x - dx.z, dx.y - dy.x);
-        let half = flow.half_vorticity(x);
+        let half = flow.half_vorticity(x, 0.0);
         assert!((half - 0.5 * curl).length() < 1e-6 * curl.length(), "{half} vs {}", 0.5 * curl);
-        assert_eq!(Flow::Uniform(DVec3::X).half_vorticity(x), DVec3::ZERO);
+        assert_eq!(Flow::Uniform(DVec3::X).half_vorticity(x, 0.0), DVec3::ZERO);
     }
 }

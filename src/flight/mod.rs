@@ -62,13 +62,15 @@ enum NonLinear<'a> {
 pub const NO_MEMORY: u32 = u32::MAX;
 
 impl<'a, M: Motion> Kernel<'a, M> {
-    /// The kernel of a step: `motion` from [`dispatch`], the effects' `physics` per kind.
+    /// The kernel of a step: `motion` from [`dispatch`], the effects' `physics` per kind, an
+    /// unsteady flow read at `time` (s).
     pub fn new(
         motion: &'a M,
         physics: &Physics,
         fluid: &Fluid,
         kinds: &[ParticleKind],
         walls: &'a [Wall],
+        time: f64,
     ) -> Self {
         let n = physics.kinds.len();
         let mu = fluid.viscosity;
@@ -81,7 +83,7 @@ impl<'a, M: Motion> Kernel<'a, M> {
         });
         Kernel {
             nonlinear,
-            spin: spin::Spin::new(physics, fluid, kinds),
+            spin: spin::Spin::new(physics, fluid, kinds, time),
             motion,
             walls,
             kind_accel: (0..n).map(|k| physics.body_acceleration(k)).collect(),

@@ -16,10 +16,13 @@ use glam::DVec3;
 pub(crate) struct Spin {
     kind_rate: Vec<f64>,
     flow: Flow,
+    /// The time (s) at which an unsteady flow's vorticity is read: the middle of the step, as
+    /// for its velocity.
+    time: f64,
 }
 
 impl Spin {
-    pub fn new(physics: &Physics, fluid: &Fluid, kinds: &[ParticleKind]) -> Option<Spin> {
+    pub fn new(physics: &Physics, fluid: &Fluid, kinds: &[ParticleKind], time: f64) -> Option<Spin> {
         physics.rotation.then(|| Spin {
             kind_rate: kinds
                 .iter()
@@ -31,7 +34,8 @@ impl Spin {
                     }
                 })
                 .collect(),
-            flow: fluid.flow,
+            flow: fluid.flow.clone(),
+            time,
         })
     }
 }
@@ -54,7 +58,7 @@ impl<M> Kernel<'_, M> {
         if rate == 0.0 || h <= 0.0 {
             return omega;
         }
-        let target = spin.flow.half_vorticity(x);
+        let target = spin.flow.half_vorticity(x, spin.time);
         target + (omega - target) * (-rate * h).exp()
     }
 }

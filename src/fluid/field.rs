@@ -258,6 +258,24 @@ impl Field {
         self.at(t).velocity(x)
     }
 
+    /// The velocity gradient at `x` at time `t`: `J[j] = ∂u/∂x_j` (1/s) in the world frame, by
+    /// central differences of the interpolated velocity over a thousandth of the smallest grid
+    /// spacing. Differencing the interpolant (rather than the stencil's own gradient) works the
+    /// same for every grid and for an axisymmetric table, whose frame turns with the position;
+    /// inside a cell it is the interpolant's exact derivative up to rounding, on a cell face the
+    /// mean of the two sides.
+    pub fn gradient(&self, x: DVec3, t: f64) -> [DVec3; 3] {
+        let at = self.at(t);
+        let h = 1e-3 * self.info.spacing.0.max(f64::MIN_POSITIVE);
+        [DVec3::X, DVec3::Y, DVec3::Z].map(|e| (at.velocity(x + h * e) - at.velocity(x - h * e)) / (2.0 * h))
+    }
+
+    /// Half the vorticity `½ ∇×u` at `x` at time `t` (rad/s), from [`Field::gradient`].
+    pub fn half_vorticity(&self, x: DVec3, t: f64) -> DVec3 {
+        let [dx, dy, dz] = self.gradient(x, t);
+        0.5 * DVec3::new(dy.z - dz.y, dz.x - dx.z, dx.y - dy.x)
+    }
+
     /// `(∇u)ᵀ`-free form of the interpolant's velocity gradient at `x`: `J[j] = ∂u/∂x_j` of
     /// the grid's values (1/s), in the grid's frame, snapshot `k`; for [`FieldInfo`].
     fn gradient_in_grid(&self, s: &Stencil, k: usize) -> [DVec3; 3] {

@@ -289,14 +289,15 @@ impl WithMotion for StepWith<'_> {
         // kernel while the pass writes the memory at its end into `scratch.next` (commit swaps
         // them, like the other columns). Empty without the effect.
         let start_memory = std::mem::take(&mut world.particles.memory);
-        let flight = Kernel::new(motion, &setup.physics, &setup.fluid, &setup.kinds, &setup.walls)
-            .remembering(
-                &setup.physics,
-                &setup.fluid,
-                &start_memory,
-                setup.physics.history.as_ref(),
-                t1 - t0,
-            );
+        let flight =
+            Kernel::new(motion, &setup.physics, &setup.fluid, &setup.kinds, &setup.walls, t0 + 0.5 * h)
+                .remembering(
+                    &setup.physics,
+                    &setup.fluid,
+                    &start_memory,
+                    setup.physics.history.as_ref(),
+                    t1 - t0,
+                );
         let ctx = contact::Ctx::new(
             &flight,
             &setup.physics,
