@@ -333,3 +333,39 @@ fn the_force_converges_at_the_integrators_order() {
     eprintln!("radius error at dt = 4e-3: {coarse:.3e} m, at 2e-3: {fine:.3e} m, ratio {ratio:.2}");
     assert!(ratio > 3.0 && ratio < 5.0, "errors {coarse:e}, {fine:e}: ratio {ratio}");
 }
+
+/// The scene of [`rotating_scene`] in a flow turning at `omega`, loaded (or its error).
+fn load_rotating(omega: f64, dt: &str, integrator: &str) -> Result<Scene, String> {
+    let dir = tempfile::tempdir().unwrap();
+    write_rotating_field(&dir.path().join("rotation.vti"), omega);
+    Scene::from_str(&rotating_scene(EFFECTS, dt, integrator), &dir.path().join("scene.toml"))
+        .map_err(|e| e.to_string())
+}
+
+#[test]
+fn auto_dt_takes_a_smaller_step_in_a_faster_field_limited_by_its_cell_crossing_time() {
+    // Slow field: the light bead's relaxation time (4.4 ms) is the shortest scale. Fast field
+    // (100× faster): the fluid crosses the smallest cell (62.5 mm) at up to 500 · 0.35 m/s,
+    // in 0.35 ms, shorter than 1/|∇u| = 2 ms and than the relaxation times.
+    let slow = load_rotating(OMEGA, "\"auto\"", "").unwrap_or_else(|e| panic!("{e}"));
+    let fast = load_rotating(100.0 * OMEGA, "\"auto\"", "").unwrap_or_else(|e| panic!("{e}"));
+    let (slow, fast) = (slow.auto_step.unwrap(), fast.auto_step.unwrap());
+    assert!(slow.limited_by.contains("relaxation time"), "{}", slow.limited_by);
+    assert!(fast.limited_by.contains("cross the smallest cell"), "{}", fast.limited_by);
+    let crossing = 0.0625 / (100.0 * OMEGA * 0.25 * 2f64.sqrt());
+    assert!((fast.time_scale - crossing).abs() < 1e-9 * crossing, "{} vs {crossing}", fast.time_scale);
+    assert!(fast.dt < 0.1 * slow.dt, "{} vs {}", fast.dt, slow.dt);
+}
+
+#[test]
+fn an_explicit_dt_beyond_the_fields_velocity_gradient_is_refused_naming_it() {
+    // |∇u| = 500 1/s and the light bead's gain G = 1.5: rate √1.5 · 500 = 612 1/s, so RK2
+    // (interval 2) needs dt < 3.27 ms; its drag alone would allow 2τ = 8.9 ms.
+    let err = load_rotating(100.0 * OMEGA, "4e-3", "").unwrap_err();
+    assert!(err.contains("simulation.dt") && err.contains("in the flow field"), "{err}");
+    assert!(err.contains("3.26e-3 s") && err.contains("5.000e2 1/s"), "{err}");
+    // Also the exponential scheme, which is stable for any drag: its flow velocity is explicit.
+    let err = load_rotating(100.0 * OMEGA, "4e-3", "integrator = \"exponential\"").unwrap_err();
+    assert!(err.contains("exponential integrator in the flow field"), "{err}");
+    assert!(load_rotating(100.0 * OMEGA, "3e-3", "").is_ok());
+}
