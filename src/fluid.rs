@@ -54,6 +54,21 @@ pub trait FlowField: Copy + Send + Sync {
     fn velocity_of<V: Vector>(&self, x: V) -> V {
         x.map_points(|x| self.velocity(x))
     }
+    /// Whether the flow has a material acceleration to evaluate: true only for a field read
+    /// with the fluid-acceleration effect ([`field::Accelerating`]), so that every other flow
+    /// compiles the force without it.
+    const ACCELERATES: bool = false;
+    /// The fluid's material acceleration `Du/Dt = ∂u/∂t + (u·∇)u` at `x` (m/s²), for the
+    /// fluid-acceleration effect (PHYSICS.md §1); zero unless [`FlowField::ACCELERATES`].
+    #[inline(always)]
+    fn material_acceleration(&self, _x: DVec3) -> DVec3 {
+        DVec3::ZERO
+    }
+    /// [`FlowField::material_acceleration`] of one point or a lane group of points (m/s²).
+    #[inline(always)]
+    fn material_acceleration_of<V: Vector>(&self, x: V) -> V {
+        x.map_points(|x| self.material_acceleration(x))
+    }
 }
 
 /// [`Flow::Quiescent`] as a [`FlowField`].

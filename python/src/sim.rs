@@ -439,6 +439,22 @@ impl Simulation {
         self.sim.setup.walls.iter().map(|w| w.name.clone()).collect()
     }
 
+    /// The first particle found outside a flow field whose policy is ``outside = "error"``:
+    /// ``None``, or a dict with ``id``, ``position`` (m, a tuple), ``t`` (s) and ``message``
+    /// (the CLI's error). :meth:`run` stops there, as ``wetbounce run`` does; :meth:`advance_to`
+    /// goes on stepping (the particle then sees the nearest point's velocity), so check this
+    /// after it.
+    #[getter]
+    fn left_field<'py>(&self, py: Python<'py>) -> PyResult<Option<Bound<'py, PyDict>>> {
+        let Some(e) = &self.sim.record.left_field else { return Ok(None) };
+        let d = PyDict::new(py);
+        d.set_item("id", e.id)?;
+        d.set_item("position", (e.position.x, e.position.y, e.position.z))?;
+        d.set_item("t", e.time)?;
+        d.set_item("message", e.to_string())?;
+        Ok(Some(d))
+    }
+
     /// Every contact so far, one row per contact, the columns of ``events.csv``: ``t``,
     /// ``id``, ``other`` (the wall's name or the other particle's id), ``kind`` (``wall``,
     /// ``particle``, or ``removed`` for a particle taken out as non-finite), ``normal_speed``,

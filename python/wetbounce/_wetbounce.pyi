@@ -164,6 +164,12 @@ class Simulation:
     def wall_names(self) -> list[str]:
         """The scene's walls."""
 
+    @property
+    def left_field(self) -> dict[str, Any] | None:
+        """The first particle found outside a flow field with ``outside = "error"``: ``id``,
+        ``position`` (m), ``t`` (s), ``message``; ``None`` if none. ``run()`` stops there;
+        ``advance_to`` goes on, so check this after it."""
+
     def events(self) -> pd.DataFrame:
         """Every contact so far: the columns and rows of ``events.csv``."""
 

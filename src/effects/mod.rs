@@ -12,6 +12,7 @@ mod added_mass;
 mod buoyancy;
 mod contact_time;
 mod drag;
+mod fluid_acceleration;
 mod gravity;
 mod history;
 mod rotation;
@@ -21,6 +22,7 @@ pub use added_mass::AddedMass;
 pub use buoyancy::Buoyancy;
 pub use contact_time::ContactTime;
 pub use drag::{Drag, DragLaw, DragLawKind, NoDrag, SchillerNaumann, Stokes};
+pub use fluid_acceleration::{FluidAcceleration, fluid_acceleration_gain};
 pub use gravity::Gravity;
 pub use history::{History, MemoryKernel, SHORTEST_LAG, history_rate_times_radius};
 pub use rotation::Rotation;
@@ -31,8 +33,17 @@ use crate::particles::ParticleKind;
 use glam::DVec3;
 
 /// Names accepted in a scene's `[effects]` table, in the order the docs list them.
-pub const EFFECT_NAMES: &[&str] =
-    &["gravity", "buoyancy", "drag", "added_mass", "contact_time", "wall_lubrication", "history", "rotation"];
+pub const EFFECT_NAMES: &[&str] = &[
+    "gravity",
+    "buoyancy",
+    "drag",
+    "added_mass",
+    "contact_time",
+    "wall_lubrication",
+    "history",
+    "rotation",
+    "fluid_acceleration",
+];
 
 /// One physical effect: adds its part to the scene's [`Physics`].
 pub trait Effect: std::fmt::Debug + Send + Sync {
@@ -75,6 +86,7 @@ pub fn build_effect(name: &str, table: toml::Value) -> Result<Box<dyn Effect>, E
         "wall_lubrication" => Box::new(parse::<WallLubrication>(table)?),
         "history" => Box::new(parse::<History>(table)?.validated()?),
         "rotation" => Box::new(parse::<Rotation>(table)?),
+        "fluid_acceleration" => Box::new(parse::<FluidAcceleration>(table)?),
         other => {
             return Err(EffectError::new(
                 "",
@@ -114,6 +126,10 @@ pub struct Physics {
     /// With rotation **[ext]** (the effect, or any friction key in the scene): particles spin,
     /// the fluid's torque relaxes the spin, contacts with friction change it (PHYSICS.md §9).
     pub rotation: bool,
+    /// With the fluid-acceleration effect **[ext]**: the force `(1 + C_M) ρ Vp Du/Dt` of a
+    /// non-uniform or unsteady flow (PHYSICS.md §1), evaluated with the drag in a field flow
+    /// (zero, and not evaluated, in the analytic flows).
+    pub fluid_acceleration: bool,
     /// Names of the effects, in the order they were applied.
     pub effect_names: Vec<&'static str>,
 }
@@ -132,6 +148,7 @@ impl Physics {
             wall_lubrication: false,
             history: None,
             rotation: false,
+            fluid_acceleration: false,
             effect_names: Vec::new(),
         };
         for effect in effects {
@@ -149,6 +166,16 @@ impl Physics {
     /// The constant part of kind `k`'s acceleration (m/s²): force density over inertia density.
     pub fn body_acceleration(&self, k: usize) -> DVec3 {
         self.kinds[k].force_density / self.kinds[k].inertia_density
+    }
+
+    /// `G = (1 + C_M) ρ / (ρp + C_M ρ)` of kind `k`: its acceleration per unit fluid
+    /// acceleration `Du/Dt` ([`fluid_acceleration_gain`]); 0 without the fluid-acceleration effect.
+    pub fn fluid_acceleration_gain(&self, k: usize, fluid: &Fluid) -> f64 {
+        if self.fluid_acceleration {
+            fluid_acceleration_gain(fluid.density, self.added_mass_coefficient, self.kinds[k].inertia_density)
+        } else {
+            0.0
+        }
     }
 
     /// Stokes relaxation rate of kind `k` times d² (m²/s): `18 μ / (ρp + C_M ρ)`, so that a

@@ -16,7 +16,7 @@ mod motion;
 mod remembered;
 mod spin;
 
-pub use motion::{Motion, Mover, WithMotion, dispatch};
+pub use motion::{Motion, Mover, StepFlow, WithMotion, dispatch};
 pub use remembered::StepCoefficients;
 
 use crate::effects::{MemoryKernel, Physics, history_rate_times_radius};
@@ -42,6 +42,9 @@ pub struct Kernel<'a, M> {
     pub walls: &'a [Wall],
     kind_accel: Vec<DVec3>,
     kind_drag_rate: Vec<f64>,
+    /// Per kind `G = (1 + C_M) ρ / (ρp + C_M ρ)` (fluid-acceleration effect); read only when
+    /// the motion's flow [`Motion::ACCELERATES`].
+    kind_fluid_gain: Vec<f64>,
     re_rate: f64,
     /// With an effect that is not one linearised force (wall lubrication, history) only: one
     /// field, so that a scene without them tests one `None` per flight, as before they existed.
@@ -88,6 +91,7 @@ impl<'a, M: Motion> Kernel<'a, M> {
             walls,
             kind_accel: (0..n).map(|k| physics.body_acceleration(k)).collect(),
             kind_drag_rate: (0..n).map(|k| physics.drag_rate(k, fluid)).collect(),
+            kind_fluid_gain: (0..n).map(|k| physics.fluid_acceleration_gain(k, fluid)).collect(),
             re_rate: if mu > 0.0 { fluid.density / mu } else { 0.0 },
         }
     }
@@ -95,7 +99,8 @@ impl<'a, M: Motion> Kernel<'a, M> {
     /// The force field of a particle of kind `k` and diameter `d` (m).
     #[inline(always)]
     pub fn field(&self, k: usize, d: f64) -> M::Field<DVec3> {
-        self.motion.field(self.kind_accel[k], self.kind_drag_rate[k] / (d * d), self.re_rate * d)
+        let gain = if M::ACCELERATES { self.kind_fluid_gain[k] } else { 0.0 };
+        self.motion.field(self.kind_accel[k], self.kind_drag_rate[k] / (d * d), self.re_rate * d, gain)
     }
 
     /// [`Kernel::field`] of a lane group: kinds `k`, diameters `d`.
@@ -103,7 +108,12 @@ impl<'a, M: Motion> Kernel<'a, M> {
     pub fn field_lanes(&self, k: [u16; LANES], d: F64x4) -> M::Field<DVec3x4> {
         let accel = DVec3x4::from_array(each(k, |k| self.kind_accel[k as usize]));
         let drag_rate = F64x4(each(k, |k| self.kind_drag_rate[k as usize]));
-        self.motion.field(accel, drag_rate / (d * d), d * self.re_rate)
+        let gain = if M::ACCELERATES {
+            F64x4(each(k, |k| self.kind_fluid_gain[k as usize]))
+        } else {
+            F64x4([0.0; LANES])
+        };
+        self.motion.field(accel, drag_rate / (d * d), d * self.re_rate, gain)
     }
 
     /// Whether the scene has the wall-lubrication effect (with drag): a particle that may come

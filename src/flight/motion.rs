@@ -13,9 +13,19 @@ pub trait Motion: Sync {
     type Field<V: Vector>: ForceField<V> + Send + Sync;
     /// Whether free flight runs by lane groups ([`crate::effects::DragLaw::LANE_GROUPS`]).
     const LANE_GROUPS: bool;
+    /// Whether the flow has a material acceleration the force reads ([`FlowField::ACCELERATES`]):
+    /// only a field with the fluid-acceleration effect.
+    const ACCELERATES: bool;
     /// The field of a particle with constant acceleration `accel` (m/s²), Stokes drag rate
-    /// `stokes_rate` (1/s) and Reynolds number per unit slip speed `re_per_speed` (s/m).
-    fn field<V: Vector>(&self, accel: V, stokes_rate: V::Real, re_per_speed: V::Real) -> Self::Field<V>;
+    /// `stokes_rate` (1/s), Reynolds number per unit slip speed `re_per_speed` (s/m) and
+    /// acceleration per unit fluid acceleration `fluid_gain` (read only if `ACCELERATES`).
+    fn field<V: Vector>(
+        &self,
+        accel: V,
+        stokes_rate: V::Real,
+        re_per_speed: V::Real,
+        fluid_gain: V::Real,
+    ) -> Self::Field<V>;
     /// One integrator step of `h` (s) under `f`.
     fn advance<V: Vector, G: ForceField<V>>(&self, f: &G, x: V, v: V, h: f64) -> (V, V);
 }
@@ -31,10 +41,17 @@ pub struct Mover<S, D, F> {
 impl<S: Scheme, D: DragLaw, F: FlowField> Motion for Mover<S, D, F> {
     type Field<V: Vector> = ParticleForce<D, F, V>;
     const LANE_GROUPS: bool = D::LANE_GROUPS;
+    const ACCELERATES: bool = F::ACCELERATES;
 
     #[inline(always)]
-    fn field<V: Vector>(&self, accel: V, stokes_rate: V::Real, re_per_speed: V::Real) -> Self::Field<V> {
-        ParticleForce { accel, stokes_rate, re_per_speed, flow: self.flow, law: PhantomData }
+    fn field<V: Vector>(
+        &self,
+        accel: V,
+        stokes_rate: V::Real,
+        re_per_speed: V::Real,
+        fluid_gain: V::Real,
+    ) -> Self::Field<V> {
+        ParticleForce { accel, stokes_rate, re_per_speed, fluid_gain, flow: self.flow, law: PhantomData }
     }
 
     #[inline(always)]
@@ -51,15 +68,26 @@ pub trait WithMotion {
     fn run<M: Motion>(self, motion: &M) -> Self::Out;
 }
 
-/// Runs `work` with the [`Motion`] of this integrator, drag law and flow; an unsteady flow is
-/// taken at `time` (s), the middle of the step.
+/// The flow of a step as [`dispatch`] reads it: the scene's flow, the time (s) an unsteady flow
+/// is taken at (the middle of the step), and whether the fluid-acceleration effect is on.
+#[derive(Debug, Clone, Copy)]
+pub struct StepFlow<'a> {
+    /// The scene's flow.
+    pub flow: &'a Flow,
+    /// The time (s) an unsteady field is read at.
+    pub time: f64,
+    /// With the fluid-acceleration effect: a field flow is compiled with its material
+    /// acceleration ([`crate::fluid::field::Accelerating`]). The analytic flows have none.
+    pub accelerating: bool,
+}
+
+/// Runs `work` with the [`Motion`] of this integrator, drag law and flow.
 pub fn dispatch<W: WithMotion>(
     integrator: IntegratorKind,
     drag: Option<DragLawKind>,
-    (flow, time): (&Flow, f64),
+    flow: StepFlow<'_>,
     work: W,
 ) -> W::Out {
-    let flow = (flow, time);
     match integrator {
         IntegratorKind::Euler => by_drag(Euler, drag, flow, work),
         IntegratorKind::Rk2 => by_drag(Rk2, drag, flow, work),
@@ -68,7 +96,7 @@ pub fn dispatch<W: WithMotion>(
     }
 }
 
-fn by_drag<S: Scheme, W: WithMotion>(s: S, drag: Option<DragLawKind>, flow: (&Flow, f64), w: W) -> W::Out {
+fn by_drag<S: Scheme, W: WithMotion>(s: S, drag: Option<DragLawKind>, flow: StepFlow<'_>, w: W) -> W::Out {
     match drag {
         None => by_flow::<S, NoDrag, W>(s, flow, w),
         Some(DragLawKind::Stokes) => by_flow::<S, Stokes, W>(s, flow, w),
@@ -76,11 +104,15 @@ fn by_drag<S: Scheme, W: WithMotion>(s: S, drag: Option<DragLawKind>, flow: (&Fl
     }
 }
 
-fn by_flow<S: Scheme, D: DragLaw, W: WithMotion>(scheme: S, (flow, time): (&Flow, f64), w: W) -> W::Out {
+fn by_flow<S: Scheme, D: DragLaw, W: WithMotion>(scheme: S, step: StepFlow<'_>, w: W) -> W::Out {
+    let StepFlow { flow, time, accelerating } = step;
     match flow {
         Flow::Quiescent => w.run(&Mover::<S, D, _> { scheme, flow: fluid::Quiescent, law: PhantomData }),
         Flow::Uniform(u) => w.run(&Mover::<S, D, _> { scheme, flow: fluid::Uniform(*u), law: PhantomData }),
         Flow::Poiseuille(p) => w.run(&Mover::<S, D, _> { scheme, flow: *p, law: PhantomData }),
+        Flow::Field(f) if accelerating => {
+            w.run(&Mover::<S, D, _> { scheme, flow: f.0.accelerating(time), law: PhantomData })
+        }
         Flow::Field(f) => w.run(&Mover::<S, D, _> { scheme, flow: f.0.at(time), law: PhantomData }),
     }
 }

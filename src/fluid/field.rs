@@ -265,9 +265,28 @@ impl Field {
     /// inside a cell it is the interpolant's exact derivative up to rounding, on a cell face the
     /// mean of the two sides.
     pub fn gradient(&self, x: DVec3, t: f64) -> [DVec3; 3] {
+        self.at(t).gradient(x)
+    }
+
+    /// The field at time `t` (s) with its material acceleration, for the fluid-acceleration
+    /// effect: [`Field::at`], and the time slope of the two snapshots around `t`.
+    pub fn accelerating(&self, t: f64) -> Accelerating<'_> {
         let at = self.at(t);
-        let h = 1e-3 * self.info.spacing.0.max(f64::MIN_POSITIVE);
-        [DVec3::X, DVec3::Y, DVec3::Z].map(|e| (at.velocity(x + h * e) - at.velocity(x - h * e)) / (2.0 * h))
+        let (ta, tb) = (self.snapshots[at.a].time, self.snapshots[at.b].time);
+        let interval = match self.period {
+            // From the last snapshot back to the first, reached at first + period.
+            Some(p) if at.b < at.a => self.snapshots[0].time + p - ta,
+            _ => tb - ta,
+        };
+        // One snapshot, or a series held at its ends: the field does not change there.
+        let inv_interval = if at.a != at.b && interval > 0.0 { 1.0 / interval } else { 0.0 };
+        Accelerating { at, inv_interval }
+    }
+
+    /// The material acceleration `Du/Dt = ∂u/∂t + (u·∇)u` (m/s²) at `x` at time `t` (s), for
+    /// code outside the hot loop ([`Accelerating`]).
+    pub fn material_acceleration(&self, x: DVec3, t: f64) -> DVec3 {
+        self.accelerating(t).material_acceleration(x)
     }
 
     /// Half the vorticity `½ ∇×u` at `x` at time `t` (rad/s), from [`Field::gradient`].
@@ -366,6 +385,59 @@ pub struct FieldAt<'a> {
     a: usize,
     b: usize,
     w: f64,
+}
+
+impl FieldAt<'_> {
+    /// The velocity gradient `J[j] = ∂u/∂x_j` (1/s) at `x`, by central differences of the
+    /// interpolant over a thousandth of the smallest grid spacing ([`Field::gradient`]).
+    #[inline]
+    pub fn gradient(&self, x: DVec3) -> [DVec3; 3] {
+        let h = 1e-3 * self.field.info.spacing.0.max(f64::MIN_POSITIVE);
+        [DVec3::X, DVec3::Y, DVec3::Z]
+            .map(|e| (self.velocity(x + h * e) - self.velocity(x - h * e)) / (2.0 * h))
+    }
+
+    /// The same field at snapshot `k` alone.
+    #[inline]
+    fn snapshot(&self, k: usize) -> FieldAt<'_> {
+        FieldAt { field: self.field, a: k, b: k, w: 0.0 }
+    }
+}
+
+/// A [`Field`] at one time with its material acceleration, as a [`FlowField`]: the flow of a
+/// field scene with the fluid-acceleration effect **[ext]** (PHYSICS.md §1). Its velocity is
+/// [`FieldAt`]'s; `Du/Dt = ∂u/∂t + (u·∇)u` with `∂u/∂t` the exact time derivative of the
+/// linear-in-time interpolation (the two snapshots' difference over their interval) and `∇u`
+/// by central differences of the interpolant ([`FieldAt::gradient`]): eight more
+/// interpolations per evaluation.
+#[derive(Debug, Clone, Copy)]
+pub struct Accelerating<'a> {
+    at: FieldAt<'a>,
+    /// `1/(t_b − t_a)` of the two snapshots around the time (1/s); 0 when the field is steady
+    /// there.
+    inv_interval: f64,
+}
+
+impl FlowField for Accelerating<'_> {
+    const ACCELERATES: bool = true;
+
+    #[inline]
+    fn velocity(&self, x: DVec3) -> DVec3 {
+        self.at.velocity(x)
+    }
+
+    #[inline]
+    fn material_acceleration(&self, x: DVec3) -> DVec3 {
+        let at = &self.at;
+        let u = at.velocity(x);
+        let [jx, jy, jz] = at.gradient(x);
+        let convective = u.x * jx + u.y * jy + u.z * jz;
+        if self.inv_interval == 0.0 {
+            return convective;
+        }
+        let unsteady = (at.snapshot(at.b).velocity(x) - at.snapshot(at.a).velocity(x)) * self.inv_interval;
+        unsteady + convective
+    }
 }
 
 impl FlowField for FieldAt<'_> {

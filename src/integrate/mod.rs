@@ -118,6 +118,9 @@ pub struct ParticleForce<D, F, V: Vector = DVec3> {
     pub stokes_rate: V::Real,
     /// `ρ d / μ` (s/m): the Reynolds number per unit slip speed.
     pub re_per_speed: V::Real,
+    /// `G = (1 + C_M) ρ / (ρp + C_M ρ)`: the acceleration per unit fluid acceleration `Du/Dt`
+    /// (fluid-acceleration effect); read only when the flow [`FlowField::ACCELERATES`].
+    pub fluid_gain: V::Real,
     /// The fluid velocity field.
     pub flow: F,
     /// The drag law.
@@ -127,12 +130,19 @@ pub struct ParticleForce<D, F, V: Vector = DVec3> {
 impl<D: DragLaw, F: FlowField, V: Vector> ForceField<V> for ParticleForce<D, F, V> {
     #[inline(always)]
     fn eval(&self, x: V, v: V) -> Linear<V> {
+        // NOTE: `ACCELERATES` is a constant of the flow's type: every flow but a field with the
+        // fluid-acceleration effect compiles this to `self.accel`, as before the effect existed.
+        let explicit = if F::ACCELERATES {
+            self.accel + self.flow.material_acceleration_of(x) * self.fluid_gain
+        } else {
+            self.accel
+        };
         if !D::ACTIVE {
-            return Linear { explicit: self.accel, inv_tau: V::Real::splat(0.0), u: V::ZERO };
+            return Linear { explicit, inv_tau: V::Real::splat(0.0), u: V::ZERO };
         }
         let u = self.flow.velocity_of(x);
         let re2 = self.re_per_speed * self.re_per_speed * (v - u).length_squared();
-        Linear { explicit: self.accel, inv_tau: self.stokes_rate * D::factor_of_squared(re2), u }
+        Linear { explicit, inv_tau: self.stokes_rate * D::factor_of_squared(re2), u }
     }
 }
 
@@ -168,6 +178,7 @@ mod tests {
             accel: DVec3::new(0.3, 0.0, -2.0),
             stokes_rate: 1.0 / 0.05,
             re_per_speed: 0.0,
+            fluid_gain: 0.0,
             flow: Uniform(DVec3::new(0.1, 0.0, 0.0)),
             law: PhantomData,
         };
@@ -227,6 +238,7 @@ mod tests {
                 accel,
                 stokes_rate: drag_rate / (d * d),
                 re_per_speed: re_rate * d,
+                fluid_gain: 0.0,
                 flow,
                 law: PhantomData,
             };
@@ -235,6 +247,7 @@ mod tests {
                 stokes_rate: F64x4::splat(drag_rate)
                     / (F64x4(group.map(|p| p.3)) * F64x4(group.map(|p| p.3))),
                 re_per_speed: F64x4(group.map(|p| p.3)) * re_rate,
+                fluid_gain: F64x4([0.0; LANES]),
                 flow,
                 law: PhantomData,
             };

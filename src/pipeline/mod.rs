@@ -42,7 +42,7 @@ pub use commit::LostParticle;
 
 use crate::contact::{self, BounceRule, ContactEvent, ImpactLocation, LastingContact, Neighbours, Other};
 use crate::effects::Physics;
-use crate::flight::{Kernel, Motion, WithMotion, dispatch};
+use crate::flight::{Kernel, Motion, StepFlow, WithMotion, dispatch};
 use crate::fluid::Fluid;
 use crate::fluid::field::{Outside, OutsideField};
 use crate::integrate::IntegratorKind;
@@ -266,7 +266,9 @@ impl Simulation {
         let setup = &*setup;
         let (integrator, drag, flow) = (setup.integrator, setup.physics.drag, &setup.fluid.flow);
         let mid_step = world.time + 0.5 * h;
-        dispatch(integrator, drag, (flow, mid_step), StepWith { world, setup, record, scratch, h });
+        let accelerating = setup.physics.fluid_acceleration;
+        let flow = StepFlow { flow, time: mid_step, accelerating };
+        dispatch(integrator, drag, flow, StepWith { world, setup, record, scratch, h });
     }
 }
 

@@ -11,6 +11,12 @@
 //! - the contact time `t_c` (L06 eq. 4 or 5) when rebounding particles are held, since the
 //!   motion right after a release is a new relaxation towards `V_t`.
 //!
+//! In a flow read from files two more time scales count (PHYSICS.md §7,
+//! [`super::stiffness::FlowScales`]): the time the fastest fluid takes to cross the smallest
+//! cell, `Δx_min / |u|_max`, over which the interpolated velocity a particle sees changes by a
+//! cell's worth (accuracy), and `1 / |∇u|_max`, the flow's own rate (accuracy, and the stability
+//! limit the loader checks).
+//!
 //! The smallest of them all, `T`, sets `Δt = T / N`, with `N` and the integrator fixed per
 //! setting. `N` was calibrated with the work–precision study (`docs/accuracy.md`) so that on
 //! the study's cases each setting delivers the error it promises:
@@ -27,6 +33,7 @@
 
 use super::Scene;
 use super::report::{kind_report, scene_sizes};
+use super::stiffness::flow_time_scales;
 use crate::integrate::IntegratorKind;
 use serde::Deserialize;
 
@@ -112,6 +119,20 @@ pub fn auto_step(scene: &Scene, accuracy: Accuracy) -> Result<AutoStep, String> 
         for (t, why) in scales {
             if t.is_finite() && t > 0.0 && best.as_ref().is_none_or(|(b, _)| t < *b) {
                 best = Some((t, why));
+            }
+        }
+    }
+    if let Some(f) = flow_time_scales(&scene.setup.fluid.flow) {
+        let scales = [
+            (
+                f.crossing,
+                "time for the fastest fluid to cross the smallest cell of the flow field, dx_min/|u|_max",
+            ),
+            (f.shear, "inverse of the largest velocity gradient of the flow field, 1/|du_i/dx_j|_max"),
+        ];
+        for (t, why) in scales {
+            if t.is_finite() && t > 0.0 && best.as_ref().is_none_or(|(b, _)| t < *b) {
+                best = Some((t, why.to_string()));
             }
         }
     }

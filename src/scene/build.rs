@@ -10,7 +10,7 @@ use super::ranges::{
 };
 use super::run_length::{TooLong, run_length};
 use super::schema::*;
-use super::stiffness::stiffest_drag;
+use super::stiffness::{flow_rate, stiffest_drag};
 use super::{LoadOptions, Scene};
 use super::{fill, flux, overlap, walls};
 use crate::contact::BounceRule;
@@ -409,6 +409,7 @@ pub(super) fn poisson(key: &str, v: f64) -> Result<f64, Invalid> {
 /// largest stable step and the exponential integrator, which is stable at any step.
 fn check_stable_step(setup: &Setup, particles: &Particles) -> Result<(), Invalid> {
     let Setup { dt, integrator, ref kinds, .. } = *setup;
+    check_stable_in_flow(setup)?;
     let Some(s) = stiffest_drag(&setup.physics, &setup.fluid, particles, &setup.injectors) else {
         return Ok(());
     };
@@ -431,6 +432,43 @@ fn check_stable_step(setup: &Setup, particles: &Particles) -> Result<(), Invalid
             kinds[s.kind].name,
             num(s.diameter),
             s.slip_speed,
+        ),
+    ))
+}
+
+/// In a field flow, a particle's position feeds back on its velocity at the rate
+/// [`flow_rate`] (`|∇u|_max`, PHYSICS.md §7): every scheme, the exponential one included (its
+/// flow velocity is taken at a predicted midpoint, explicitly), must have `h` times that rate
+/// inside its real-axis stability interval, 2 for the exponential scheme.
+fn check_stable_in_flow(setup: &Setup) -> Result<(), Invalid> {
+    let Setup { dt, integrator, .. } = *setup;
+    let Some(rate) = flow_rate(&setup.physics, &setup.fluid) else { return Ok(()) };
+    let interval = match integrator {
+        IntegratorKind::Exponential => 2.0,
+        _ => integrator.stability_interval(),
+    };
+    let limit = interval / rate;
+    if dt < limit {
+        return Ok(());
+    }
+    let gradient = setup.fluid.flow.field().map_or(0.0, |f| f.info.largest_gradient);
+    Err(Invalid::new(
+        "simulation.dt",
+        format!(
+            "{} s is not below the largest stable step of the {} integrator in the flow field, {} s \
+             ({interval} / {:.3e} 1/s, the rate at which a particle following the flow feeds its position \
+             back into its velocity: the field's largest velocity gradient |du_i/dx_j| = {:.3e} 1/s{}); \
+             use a smaller dt, or dt = \"auto\"",
+            num(dt),
+            integrator.name(),
+            round_down(limit),
+            rate,
+            gradient,
+            if setup.physics.fluid_acceleration {
+                ", times the square root of the largest fluid-acceleration gain"
+            } else {
+                ""
+            },
         ),
     ))
 }

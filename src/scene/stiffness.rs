@@ -126,3 +126,45 @@ pub fn stiffest_drag(
         .filter(|s| s.rate.is_finite())
         .max_by(|a, b| a.rate.total_cmp(&b.rate))
 }
+
+/// The time scales of a flow read from files (s), from what [`crate::fluid::field::FieldInfo`]
+/// measured: `None` for the analytic flows. (Poiseuille's shear `2 u_max / R` is left out: its
+/// velocity is along the axis and varies only across it, so a particle's position feeds back
+/// on its velocity in one direction only, and the linearised flight has no eigenvalue from it.)
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct FlowScales {
+    /// `Δx_min / |u|_max`: the time the fastest fluid takes to cross the smallest cell (s). An
+    /// accuracy scale: the trilinear or barycentric interpolant is only continuous across a cell
+    /// face, so a step that jumps cells averages its kinks away.
+    pub crossing: f64,
+    /// `1 / |∇u|_max`, the largest `|∂u_i/∂x_j|` over the cells: the flow's own rate (s). A
+    /// stability scale: a particle that follows the flow (`τ |∇u| ≪ 1`) moves as `x' = u(x)`,
+    /// whose linearisation has eigenvalues of size `|∇u|` (a compressional strain `−|∇u|`).
+    pub shear: f64,
+}
+
+/// [`FlowScales`] of `flow`, or `None` for an analytic flow; a still field has infinite ones.
+pub fn flow_time_scales(flow: &Flow) -> Option<FlowScales> {
+    let i = &flow.field()?.info;
+    let fast = i.speed_range.1;
+    Some(FlowScales {
+        crossing: if fast > 0.0 { i.spacing.0 / fast } else { f64::INFINITY },
+        shear: if i.largest_gradient > 0.0 { 1.0 / i.largest_gradient } else { f64::INFINITY },
+    })
+}
+
+/// The largest rate (1/s) at which a field flow feeds a particle's position back into its
+/// velocity, for the stability of the explicit schemes: `|∇u|_max`, times `√G` (the largest
+/// fluid-acceleration gain `(1 + C_M) ρ / (ρp + C_M ρ)` of the scene's kinds, when above 1)
+/// with the fluid-acceleration effect, whose `G (u·∇)u` gives `x'' = G J² x` and so the rate
+/// `√G |∇u|`. `None` without a field, or without drag and fluid acceleration (then the flow
+/// does not act on the particles).
+pub fn flow_rate(physics: &Physics, fluid: &Fluid) -> Option<f64> {
+    let scales = flow_time_scales(&fluid.flow)?;
+    if physics.drag.is_none() && !physics.fluid_acceleration {
+        return None;
+    }
+    let gain =
+        (0..physics.kinds.len()).map(|k| physics.fluid_acceleration_gain(k, fluid)).fold(1.0, f64::max);
+    Some(gain.sqrt() / scales.shear)
+}
