@@ -3,7 +3,7 @@
 # same water flow, and both codes' run times.
 #
 #   apt-get install -y openfoam python3-numpy    # Debian: OpenFOAM v1912
-#   bash tools/contactor_side_by_side.sh         # about 25 min on this project's 2-core machine
+#   bash tools/contactor_side_by_side.sh         # 14 min on this project's 2-core machine, under load
 #
 # 1. wetbounce runs scenes/contactor.toml (1500 toluene drops, L06's rule, drops held on the
 #    baffles) with the `fluid_acceleration` effect added, on 1 thread, through
