@@ -6,7 +6,7 @@
 # and prints the rates and the ratio wetbounce / OpenFOAM.
 #
 #   apt-get install -y openfoam openmpi-bin      # Debian package (v1912), with Open MPI
-#   bash tools/peer_ratio_openfoam.sh            # STEPS=5000: about 3 min on an idle 2-core box
+#   bash tools/peer_ratio_openfoam.sh            # STEPS=5000: 6.5 min on a busy 2-core machine
 #
 # OpenFOAM's rate is a difference of two runs of the same case, STEPS and NSHORT steps long, so
 # start-up, mesh reading, injection and the final write cancel:
