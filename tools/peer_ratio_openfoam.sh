@@ -14,7 +14,11 @@
 #   openfoam_net   = the same, less the same difference for the case with 0 parcels (the time
 #                    loop and carrier fields, which cost OpenFOAM something with no parcel)
 # The ratio is taken against openfoam_net, OpenFOAM's better figure. wetbounce's rate is
-# step_rate's particle_steps_per_s on scenes/bench_paper.toml (WB_STEPS steps). Every OpenFOAM
+# step_rate's particle_steps_per_s on scenes/bench_paper.toml (WB_STEPS steps). On 1 rank the
+# same rates from CPU time (user+sys, the same differences for OpenFOAM; step_rate's whole
+# process for wetbounce) and their ratio_c are printed too: they change less than wall times
+# when other processes share the cores (on 2 ranks, waiting ranks spin and burn CPU, so there
+# is no such figure). Every OpenFOAM
 # run and every step_rate run is timed once: peers/openfoam/run.sh is the careful version
 # (physics check, repetitions, waits for an idle machine, re-runs of disturbed pairs).
 set -euo pipefail
@@ -33,7 +37,7 @@ fi
 if [ -z "${WM_PROJECT_DIR:-}" ] && [ -f /usr/share/openfoam/etc/controlDict ]; then
   export WM_PROJECT_DIR=/usr/share/openfoam
 fi
-for c in blockMesh decomposePar uncoupledKinematicParcelFoam mpirun; do
+for c in blockMesh decomposePar uncoupledKinematicParcelFoam mpirun /usr/bin/time; do
   command -v "$c" >/dev/null || { echo "$c not found: apt-get install -y openfoam openmpi-bin" >&2; exit 1; }
 done
 cargo build --release --quiet --bin step_rate --manifest-path "$HERE/Cargo.toml"
@@ -48,27 +52,31 @@ mk() { # nparcels nsteps -> case dir
   decomposePar -case "$c" -force >"$c/log.decomposePar" 2>&1
   echo "$c"
 }
-of_wall() { # case ranks -> wall seconds of one run
+of_time() { # case ranks -> "wall CPU" seconds of one run (CPU: user+sys of it and its children)
   local c=$1 r=$2 t0 t1
   rm -rf "$c"/0.* "$c"/processor*/0.*
   t0=$(date +%s.%N)
-  if [ "$r" -eq 1 ]; then uncoupledKinematicParcelFoam -case "$c" >"$c/log.run" 2>&1
-  else mpirun --allow-run-as-root -np "$r" uncoupledKinematicParcelFoam -case "$c" -parallel >"$c/log.run" 2>&1; fi
+  if [ "$r" -eq 1 ]; then /usr/bin/time -f "%U %S" -o "$c/time" uncoupledKinematicParcelFoam -case "$c" >"$c/log.run" 2>&1
+  else /usr/bin/time -f "%U %S" -o "$c/time" mpirun --allow-run-as-root -np "$r" uncoupledKinematicParcelFoam -case "$c" -parallel >"$c/log.run" 2>&1; fi
   t1=$(date +%s.%N)
-  awk -v a="$t0" -v b="$t1" 'BEGIN{printf "%.3f", b-a}'
+  awk -v a="$t0" -v b="$t1" '{printf "%.3f %.2f", b-a, $1+$2}' "$c/time"
 }
-wb() { # threads
-  "$STEP_RATE" "$SCENE" "$WB_STEPS" "$1" | awk -F'particle_steps_per_s=' '/particle_steps_per_s/{print $2+0}'
+wb() { # threads -> "particle_steps_per_s CPU_seconds"
+  /usr/bin/time -f "%U %S" -o "$WORK/wb.time" "$STEP_RATE" "$SCENE" "$WB_STEPS" "$1" >"$WORK/wb.log"
+  awk -F'particle_steps_per_s=' '/particle_steps_per_s/{printf "%s ", $2+0}' "$WORK/wb.log"
+  awk '{printf "%.2f", $1+$2}' "$WORK/wb.time"
 }
 CN=$(mk $N "$STEPS"); CS=$(mk $N "$NSHORT"); ZN=$(mk 0 "$STEPS"); ZS=$(mk 0 "$NSHORT")
 echo "# bench_paper.toml: $N beads; OpenFOAM $STEPS - $NSHORT steps, wetbounce $WB_STEPS steps; $(nproc) cores"
-printf "%-8s %16s %16s %16s %8s %6s\n" ranks openfoam_gross openfoam_net wetbounce_psps ratio load1
+printf "%-8s %16s %16s %16s %8s %12s %12s %8s %6s\n" ranks openfoam_gross openfoam_net wetbounce_psps ratio of_cpu_psps wb_cpu_psps ratio_c load1
 for r in 1 2; do
   L1=$(cut -d' ' -f1 /proc/loadavg)
-  TN=$(of_wall "$CN" "$r"); W=$(wb "$r")
-  TS=$(of_wall "$CS" "$r"); T0N=$(of_wall "$ZN" "$r"); T0S=$(of_wall "$ZS" "$r")
+  read -r TN CN_ < <(of_time "$CN" "$r"); read -r W WC < <(wb "$r")
+  read -r TS CS_ < <(of_time "$CS" "$r"); read -r T0N C0N < <(of_time "$ZN" "$r"); read -r T0S C0S < <(of_time "$ZS" "$r")
   awk -v r="$r" -v n=$N -v s="$STEPS" -v ns="$NSHORT" -v tn="$TN" -v ts="$TS" -v zn="$T0N" -v zs="$T0S" \
-      -v w="$W" -v l="$L1" 'BEGIN{
+      -v cn="$CN_" -v cs="$CS_" -v c0n="$C0N" -v c0s="$C0S" -v w="$W" -v wc="$WC" -v ws="$WB_STEPS" -v l="$L1" 'BEGIN{
     g = n*(s-ns)/(tn-ts); net = n*(s-ns)/((tn-ts)-(zn-zs))
-    printf "%-8s %16.4e %16.4e %16.4e %8.2f %6s\n", r, g, net, w, w/net, l }'
+    if (r == 1) { oc = n*(s-ns)/((cn-cs)-(c0n-c0s)); wcr = n*ws/wc
+      printf "%-8s %16.4e %16.4e %16.4e %8.2f %12.4e %12.4e %8.2f %6s\n", r, g, net, w, w/net, oc, wcr, wcr/oc, l }
+    else printf "%-8s %16.4e %16.4e %16.4e %8.2f %12s %12s %8s %6s\n", r, g, net, w, w/net, "-", "-", "-", l }'
 done
