@@ -59,12 +59,12 @@ of_time() { # case ranks -> "wall CPU" seconds of one run (CPU: user+sys of it a
   if [ "$r" -eq 1 ]; then /usr/bin/time -f "%U %S" -o "$c/time" uncoupledKinematicParcelFoam -case "$c" >"$c/log.run" 2>&1
   else /usr/bin/time -f "%U %S" -o "$c/time" mpirun --allow-run-as-root -np "$r" uncoupledKinematicParcelFoam -case "$c" -parallel >"$c/log.run" 2>&1; fi
   t1=$(date +%s.%N)
-  awk -v a="$t0" -v b="$t1" '{printf "%.3f %.2f", b-a, $1+$2}' "$c/time"
+  awk -v a="$t0" -v b="$t1" '{printf "%.3f %.2f\n", b-a, $1+$2}' "$c/time"
 }
 wb() { # threads -> "particle_steps_per_s CPU_seconds"
   /usr/bin/time -f "%U %S" -o "$WORK/wb.time" "$STEP_RATE" "$SCENE" "$WB_STEPS" "$1" >"$WORK/wb.log"
   awk -F'particle_steps_per_s=' '/particle_steps_per_s/{printf "%s ", $2+0}' "$WORK/wb.log"
-  awk '{printf "%.2f", $1+$2}' "$WORK/wb.time"
+  awk '{printf "%.2f\n", $1+$2}' "$WORK/wb.time"
 }
 CN=$(mk $N "$STEPS"); CS=$(mk $N "$NSHORT"); ZN=$(mk 0 "$STEPS"); ZS=$(mk 0 "$NSHORT")
 echo "# bench_paper.toml: $N beads; OpenFOAM $STEPS - $NSHORT steps, wetbounce $WB_STEPS steps; $(nproc) cores"
