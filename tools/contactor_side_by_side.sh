@@ -62,8 +62,10 @@ postProcess -case "$C" -func writeCellCentres -time 0 >>"$WORK/of_prep.log" 2>&1
 python3 "$MK" field "$C" "$HERE/scenes/fields/contactor_rz.vti" >>"$WORK/of_prep.log"
 python3 "$MK" drops "$C" "$WORK/drops.csv" "$E" "$END" >>"$WORK/of_prep.log"
 T1=$(date +%s.%N)
-# The solver prints every injector's count every step (1500 x 3 lines): only the end is kept.
-/usr/bin/time -f "%e %U %S" -o "$WORK/of.time" uncoupledKinematicParcelFoam -case "$C" 2>&1 | tail -n 300 >"$WORK/of_run.log"
+# The solver prints every injector's count every step (1500 x 3 lines, 2 GB in all): those
+# lines are dropped, and of the rest only the end is kept.
+/usr/bin/time -f "%e %U %S" -o "$WORK/of.time" uncoupledKinematicParcelFoam -case "$C" 2>&1 |
+  grep -v -e '^    Injector drop' -e '^      - parcels added' -e '^      - mass introduced' | tail -n 2000 >"$WORK/of_run.log"
 grep -q '^End' "$WORK/of_run.log" || { echo "OpenFOAM failed: $WORK/of_run.log" >&2; tail -n 40 "$WORK/of_run.log" >&2; exit 1; }
 python3 "$MK" reached "$C" "$WORK/drops.csv" >"$WORK/of_residence.csv"
 # ------------------------------------------------------------------ both

@@ -269,8 +269,8 @@ def reached(case, drops_csv):
     the top; empty if it did not reach it), from the patchPostProcessing file of the last time."""
     rows = drops_of(drops_csv)
     base = os.path.join(case, "postProcessing", "lagrangian", "kinematicCloud", "reached")
-    times = sorted(os.listdir(base), key=float)
-    path = os.path.join(base, times[-1], "inlet.post")
+    times = sorted(os.listdir(base), key=float) if os.path.isdir(base) else []
+    path = os.path.join(base, times[-1], "inlet.post") if times else os.devnull  # none reached
     hit = {}
     with open(path) as f:
         header = None
