@@ -7,6 +7,15 @@
 //! from its lowest-numbered vertex, so the two cells sharing a face split it the same way and
 //! the tetrahedra of neighbouring cells meet face to face: the interpolant is continuous. A
 //! linear field is reproduced exactly, so the interpolation is second order in the cell size.
+//!
+//! Because they meet face to face, each tetrahedron knows its four face neighbours (found once
+//! at load). A lookup that starts from a tetrahedron near the point (the one that held the same
+//! particle at the end of the last step, [`crate::particles::Particles::tet`]) walks there: if
+//! the point is outside the tetrahedron, it crosses the face opposite the most negative
+//! barycentric coordinate, and again, up to [`WALK_STEPS`] times; the search tree is the
+//! fallback when the walk has no start, leaves the grid (a concave boundary, a face two cells do
+//! not share whole) or takes longer. Whichever tetrahedron the point is found in, the value is
+//! the same up to rounding, since the interpolant is continuous across their shared faces.
 
 use super::structured::Stencil;
 use glam::DVec3;
@@ -77,6 +86,47 @@ pub struct Unstructured {
     pub bounds: Aabb,
     /// The smallest and largest cell size (m): the cube root of the cell's volume.
     pub cell_size_range: (f64, f64),
+    /// `neighbours[t][i]`: the tetrahedron across the face of `t` opposite its vertex `i`, or
+    /// [`NO_TET`] on the grid's boundary (or where no other tetrahedron has that face whole).
+    neighbours: Vec<[u32; 4]>,
+}
+
+pub use crate::particles::NO_TET;
+
+/// The most faces a walk crosses before the lookup falls back to the search tree: a particle
+/// rarely crosses more than a cell (about six tetrahedra) in a step; a longer walk means a
+/// remembered tetrahedron far from the point, where the tree is as quick.
+pub const WALK_STEPS: usize = 24;
+
+/// The face neighbours of `tets` ([`Unstructured::neighbours`]): the faces sorted by their
+/// vertices, so that the two tetrahedra sharing one are side by side.
+fn face_neighbours(tets: &[[u32; 4]]) -> Vec<[u32; 4]> {
+    let mut faces: Vec<([u32; 3], u32, u8)> = Vec::with_capacity(4 * tets.len());
+    for (t, v) in tets.iter().enumerate() {
+        for i in 0..4 {
+            let mut f = [v[(i + 1) % 4], v[(i + 2) % 4], v[(i + 3) % 4]];
+            f.sort_unstable();
+            faces.push((f, t as u32, i as u8));
+        }
+    }
+    faces.sort_unstable();
+    let mut neighbours = vec![[NO_TET; 4]; tets.len()];
+    let mut k = 0;
+    while k < faces.len() {
+        let mut e = k + 1;
+        while e < faces.len() && faces[e].0 == faces[k].0 {
+            e += 1;
+        }
+        // Exactly two: a face of three or more tetrahedra (a broken mesh) links none of them,
+        // and the lookup falls back to the tree there.
+        if e - k == 2 {
+            let ((_, a, i), (_, b, j)) = (faces[k], faces[k + 1]);
+            neighbours[a as usize][i as usize] = b;
+            neighbours[b as usize][j as usize] = a;
+        }
+        k = e;
+    }
+    neighbours
 }
 
 /// Barycentric coordinates of `p` in the tetrahedron `t`, and its six-fold signed volume.
@@ -174,7 +224,9 @@ impl Unstructured {
         }
         let bounds = boxes.iter().fold(Aabb::new_invalid(), |a, b| a.merged(b));
         let bvh = Bvh::from_leaves(BvhBuildStrategy::Binned, &boxes);
+        let neighbours = face_neighbours(&tets);
         Ok(Unstructured {
+            neighbours,
             nodes,
             points: n_points,
             tets,
@@ -215,6 +267,45 @@ impl Unstructured {
         Err(())
     }
 
+    /// The tetrahedron holding `p`, walking from tetrahedron `start` (see the module's
+    /// documentation); the search tree when `start` is [`NO_TET`] or the walk fails.
+    fn locate_from(&self, start: u32, p: DVec3) -> Result<usize, ()> {
+        let mut t = start as usize;
+        if t < self.tets.len() {
+            for _ in 0..WALK_STEPS {
+                let (l, _) = barycentric(self.corners(t), p);
+                let mut worst = 0;
+                for i in 1..4 {
+                    if l[i] < l[worst] {
+                        worst = i;
+                    }
+                }
+                if l[worst] >= INSIDE {
+                    return Ok(t);
+                }
+                // Not a NaN coordinate either: a point that is not finite ends on the tree.
+                let next = self.neighbours[t][worst];
+                if next == NO_TET || l[worst].is_nan() {
+                    break;
+                }
+                t = next as usize;
+            }
+        }
+        self.locate(p)
+    }
+
+    /// The tetrahedron holding `p` ([`NO_TET`] when none does), walking from `start`: what a
+    /// particle remembers for its next lookups.
+    pub fn tet_of(&self, start: u32, p: DVec3) -> u32 {
+        self.locate_from(start, p).map_or(NO_TET, |t| t as u32)
+    }
+
+    /// The face neighbours of every tetrahedron ([`Unstructured::neighbours`]), for tests.
+    #[cfg(test)]
+    pub(crate) fn neighbours(&self) -> &[[u32; 4]] {
+        &self.neighbours
+    }
+
     /// Whether `p` lies in a cell of the grid.
     pub fn contains(&self, p: DVec3) -> bool {
         self.locate(p).is_ok()
@@ -224,7 +315,14 @@ impl Unstructured {
     /// grid's nearest point (`Err`, so that the caller applies its policy).
     #[allow(clippy::result_large_err)] // a stencil either way; Err says the point was outside
     pub fn stencil(&self, p: DVec3) -> Result<Stencil, Stencil> {
-        match self.locate(p) {
+        self.stencil_from(NO_TET, p)
+    }
+
+    /// [`Unstructured::stencil`], the lookup walking from tetrahedron `start`
+    /// ([`Unstructured::tet_of`]).
+    #[allow(clippy::result_large_err)] // as `stencil`
+    pub fn stencil_from(&self, start: u32, p: DVec3) -> Result<Stencil, Stencil> {
+        match self.locate_from(start, p) {
             Ok(t) => Ok(self.tet_stencil(t, p, false)),
             Err(_) => {
                 let (t, q) = self.nearest(p);
