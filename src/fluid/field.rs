@@ -252,16 +252,17 @@ impl Field {
     }
 
     /// The stencil at `x`'s grid point (an unstructured grid's lookup walking from tetrahedron
-    /// `hint`), whether the point is inside, and the axisymmetric frame.
+    /// `hint`) without its gradient (the velocity's), whether the point is inside, and the
+    /// axisymmetric frame.
     #[inline]
     fn stencil(&self, x: DVec3, hint: u32) -> (Stencil, bool, Option<(DVec3, DVec3, DVec3)>) {
         let (q, frame) = self.to_grid(x);
         let (s, inside) = match &self.grid {
             Grid::Structured(g) => {
                 let inside = g.contains(q);
-                (g.stencil(if inside { q } else { g.clamp(q) }), inside)
+                (g.weights(if inside { q } else { g.clamp(q) }), inside)
             }
-            Grid::Unstructured(g) => match g.stencil_from(hint, q) {
+            Grid::Unstructured(g) => match g.stencil_from(hint, q, false) {
                 Ok(s) => (s, true),
                 Err(s) => (s, false),
             },

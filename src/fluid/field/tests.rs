@@ -253,6 +253,7 @@ fn time_series_is_linear_in_time_and_periodic_when_asked() {
 mod walk {
     use super::*;
     use proptest::prelude::*;
+    use rand::Rng;
     use std::sync::OnceLock;
 
     /// A tetrahedral and a hexahedral grid of the unit cube, distorted, with `analytic` on them.

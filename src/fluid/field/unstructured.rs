@@ -249,8 +249,9 @@ impl Unstructured {
         self.tets[t].map(|i| self.nodes[i as usize])
     }
 
-    /// The tetrahedron holding `p`, among those of the cells whose boxes hold it.
-    fn locate(&self, p: DVec3) -> Result<usize, ()> {
+    /// The tetrahedron holding `p`, among those of the cells whose boxes hold it, and `p`'s
+    /// barycentric coordinates in it.
+    fn locate(&self, p: DVec3) -> Result<(usize, [f64; 4]), ()> {
         for cell in self.bvh.leaves(|n: &BvhNode| n.aabb().contains_local_point(p)) {
             let c = cell as usize;
             if !self.boxes[c].contains_local_point(p) {
@@ -260,7 +261,7 @@ impl Unstructured {
                 let (l, _) = barycentric(self.corners(t), p);
                 let worst = l[0].min(l[1]).min(l[2]).min(l[3]);
                 if worst >= INSIDE {
-                    return Ok(t);
+                    return Ok((t, l));
                 }
             }
         }
@@ -269,7 +270,7 @@ impl Unstructured {
 
     /// The tetrahedron holding `p`, walking from tetrahedron `start` (see the module's
     /// documentation); the search tree when `start` is [`NO_TET`] or the walk fails.
-    fn locate_from(&self, start: u32, p: DVec3) -> Result<usize, ()> {
+    fn locate_from(&self, start: u32, p: DVec3) -> Result<(usize, [f64; 4]), ()> {
         let mut t = start as usize;
         if t < self.tets.len() {
             for _ in 0..WALK_STEPS {
@@ -281,7 +282,7 @@ impl Unstructured {
                     }
                 }
                 if l[worst] >= INSIDE {
-                    return Ok(t);
+                    return Ok((t, l));
                 }
                 // Not a NaN coordinate either: a point that is not finite ends on the tree.
                 let next = self.neighbours[t][worst];
@@ -297,7 +298,7 @@ impl Unstructured {
     /// The tetrahedron holding `p` ([`NO_TET`] when none does), walking from `start`: what a
     /// particle remembers for its next lookups.
     pub fn tet_of(&self, start: u32, p: DVec3) -> u32 {
-        self.locate_from(start, p).map_or(NO_TET, |t| t as u32)
+        self.locate_from(start, p).map_or(NO_TET, |(t, _)| t as u32)
     }
 
     /// The face neighbours of every tetrahedron ([`Unstructured::neighbours`]), for tests.
@@ -315,18 +316,25 @@ impl Unstructured {
     /// grid's nearest point (`Err`, so that the caller applies its policy).
     #[allow(clippy::result_large_err)] // a stencil either way; Err says the point was outside
     pub fn stencil(&self, p: DVec3) -> Result<Stencil, Stencil> {
-        self.stencil_from(NO_TET, p)
+        self.stencil_from(NO_TET, p, true)
     }
 
     /// [`Unstructured::stencil`], the lookup walking from tetrahedron `start`
-    /// ([`Unstructured::tet_of`]).
+    /// ([`Unstructured::tet_of`]), the gradient only `with_gradient` (a velocity needs none).
     #[allow(clippy::result_large_err)] // as `stencil`
-    pub fn stencil_from(&self, start: u32, p: DVec3) -> Result<Stencil, Stencil> {
+    #[inline]
+    pub fn stencil_from(&self, start: u32, p: DVec3, with_gradient: bool) -> Result<Stencil, Stencil> {
         match self.locate_from(start, p) {
-            Ok(t) => Ok(self.tet_stencil(t, p, false)),
+            Ok((t, l)) => Ok(self.tet_stencil(t, l, with_gradient)),
             Err(_) => {
                 let (t, q) = self.nearest(p);
-                Err(self.tet_stencil(t, q, true))
+                // `q` is the nearest point of the grid, on this tetrahedron's surface up to
+                // round-off. Outside the grid the value is constant along the outward
+                // direction: no gradient is claimed there.
+                let (l, _) = barycentric(self.corners(t), q);
+                let l = l.map(|x| x.max(0.0));
+                let sum: f64 = l.iter().sum();
+                Err(self.tet_stencil(t, l.map(|x| x / sum), false))
             }
         }
     }
@@ -362,21 +370,12 @@ impl Unstructured {
         }
     }
 
-    fn tet_stencil(&self, t: usize, p: DVec3, clamp: bool) -> Stencil {
-        let corners = self.corners(t);
-        let (mut l, _) = barycentric(corners, p);
-        let gradient = if clamp {
-            // `p` is the nearest point of the grid, on this tetrahedron's surface up to
-            // round-off. Outside the grid the value is constant along the outward direction:
-            // no gradient is claimed there.
-            l = l.map(|x| x.max(0.0));
-            let sum: f64 = l.iter().sum();
-            l = l.map(|x| x / sum);
-            [DVec3::ZERO; 4]
-        } else {
-            barycentric_gradients(corners)
-        };
+    /// The stencil of tetrahedron `t` with weights `l` (the barycentric coordinates of the
+    /// point), and the weights' gradients only `with_gradient`.
+    #[inline]
+    fn tet_stencil(&self, t: usize, l: [f64; 4], with_gradient: bool) -> Stencil {
         let mut s = Stencil::default();
+        let gradient = if with_gradient { barycentric_gradients(self.corners(t)) } else { [DVec3::ZERO; 4] };
         for i in 0..4 {
             s.nodes[i] = self.tets[t][i];
             s.weights[i] = l[i];
