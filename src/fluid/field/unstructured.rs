@@ -275,12 +275,8 @@ impl Unstructured {
         if t < self.tets.len() {
             for _ in 0..WALK_STEPS {
                 let (l, _) = barycentric(self.corners(t), p);
-                let mut worst = 0;
-                for i in 1..4 {
-                    if l[i] < l[worst] {
-                        worst = i;
-                    }
-                }
+                // The first most negative coordinate.
+                let worst = (1..4).fold(0, |w, i| if l[i] < l[w] { i } else { w });
                 if l[worst] >= INSIDE {
                     return Ok((t, l));
                 }
