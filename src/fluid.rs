@@ -54,6 +54,17 @@ pub trait FlowField: Copy + Send + Sync {
     fn velocity_of<V: Vector>(&self, x: V) -> V {
         x.map_points(|x| self.velocity(x))
     }
+    /// Whether the flow's lookups can start from a particle's remembered tetrahedron
+    /// ([`FlowField::hinted`]): only a field flow (on an unstructured grid, which the field
+    /// knows; [`field::Field::walks`]).
+    const HINTED: bool = false;
+    /// The flow with its lookups walking from tetrahedron `tet` of an unstructured field
+    /// ([`field::unstructured`]): one particle's flow. The value is the same whatever `tet` is
+    /// (up to rounding); other flows have nothing to look up.
+    #[inline(always)]
+    fn hinted(self, _tet: u32) -> Self {
+        self
+    }
     /// Whether the flow has a material acceleration to evaluate: true only for a field read
     /// with the fluid-acceleration effect ([`field::Accelerating`]), so that every other flow
     /// compiles the force without it.

@@ -142,7 +142,17 @@ pub struct Particles {
     pub memory: Vec<DVec3>,
     /// Modes per particle in [`Particles::memory`]; 0 without the history effect.
     pub memory_modes: usize,
+    /// With a flow field on an unstructured grid only (empty otherwise, see
+    /// [`Particles::remembers_tet`]): the grid's tetrahedron that held each particle at the end
+    /// of the last step, where the next step's flow lookups walk from
+    /// ([`crate::fluid::field::unstructured`]); [`NO_TET`] when outside or not known yet.
+    pub tet: Vec<u32>,
+    /// Whether [`Particles::tet`] is kept: set when the scene is built.
+    pub remembers_tet: bool,
 }
+
+/// No tetrahedron ([`Particles::tet`]): outside the grid, or not looked up yet.
+pub const NO_TET: u32 = u32::MAX;
 
 impl Particles {
     /// Number of particles.
@@ -170,6 +180,9 @@ impl Particles {
         self.born.push(0.0);
         // A new particle remembers nothing: as if it had moved at its velocity forever.
         self.memory.resize(self.memory.len() + self.memory_modes, DVec3::ZERO);
+        if self.remembers_tet {
+            self.tet.push(NO_TET);
+        }
         self.len() - 1
     }
 
@@ -190,6 +203,9 @@ impl Particles {
         column(&mut self.release_time, keep);
         column(&mut self.release_vel, keep);
         column(&mut self.born, keep);
+        if self.remembers_tet {
+            column(&mut self.tet, keep);
+        }
         if self.memory_modes > 0 {
             let modes = self.memory_modes;
             let mut i = 0;

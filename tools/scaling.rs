@@ -18,11 +18,22 @@
 //!   integrator (their drag relaxation time, 14 µs, is below the step);
 //! - `polydisperse`: `fines` plus one bead of 10 mm (size ratio 100) 10 mm beside the lattice,
 //!   far from every fine: the broad phase must not pay for the one large bead;
-//! - `polydisperse-4mm`: the same with a bead of 4 mm (size ratio 40).
+//! - `polydisperse-4mm`: the same with a bead of 4 mm (size ratio 40);
+//! - `poiseuille`: `paper` in a Poiseuille pipe flow up the box (axis through the lattice's
+//!   centre, radius 0.75 of the lattice's side, so every bead is in the pipe; mean 10 mm/s);
+//! - `field`: `poiseuille` with the flow read from a `.vti` the tool writes (into the system's
+//!   temporary directory): the same profile sampled on an image grid of 64 cells across the
+//!   box, trilinear — the same physics except the flow's evaluation;
+//! - `field-vtu`: the same profile on an unstructured grid of hexahedra (`.vtu`, 32 cells
+//!   across, ~4·10⁴ cells), each cut into 12 tetrahedra, barycentric; each particle's lookups
+//!   walk from the tetrahedron it was in at the end of the last step;
+//! - `field-vtu-bvh`: `field-vtu` with every lookup through the search tree (the particles
+//!   remember no tetrahedron), to measure what the walk saves.
 //!
 //! `fines` and `polydisperse` time their first step too (no untimed warm-up), since the
 //! neighbour list's first build is what they measure.
 
+use glam::DVec3;
 use std::io::Write;
 use std::path::Path;
 use std::time::Instant;
@@ -36,8 +47,102 @@ const LARGE: f64 = 1e-2;
 /// The one large bead's diameter in `polydisperse-4mm` (m).
 const LARGE_4MM: f64 = 4e-3;
 
+/// Mean velocity of the `poiseuille` and `field` cases' pipe flow (m/s).
+const PIPE_MEAN: f64 = 0.01;
+
+/// The pipe of the `poiseuille` and `field` cases in a box of side `extent`: its axis point
+/// (on the box's floor) and radius (m).
+fn pipe(extent: f64) -> (DVec3, f64) {
+    (DVec3::new(0.5 * extent, 0.5 * extent, 0.0), 0.75 * extent)
+}
+
+/// Writes the `field` cases' file: the pipe flow of a box of side `extent` and height
+/// `height` sampled at the nodes of a grid of `cells` cells across, as an image (`.vti`) or as
+/// an unstructured grid of hexahedra (`.vtu`), ASCII. Returns its path.
+fn write_pipe_field(extent: f64, height: f64, cells: usize, unstructured: bool) -> std::path::PathBuf {
+    use std::fmt::Write as _;
+    let (point, radius) = pipe(extent);
+    let flow = wetbounce::fluid::Poiseuille { point, axis: DVec3::Z, radius, max_velocity: 2.0 * PIPE_MEAN };
+    let h = extent / cells as f64;
+    let nz = (height / h).ceil() as usize;
+    let (nx, ny) = (cells, cells);
+    let node = |i: usize, j: usize, k: usize| DVec3::new(i as f64 * h, j as f64 * h, k as f64 * h);
+    let mut velocity = String::new();
+    let mut points = String::new();
+    for k in 0..=nz {
+        for j in 0..=ny {
+            for i in 0..=nx {
+                let x = node(i, j, k);
+                let u = wetbounce::fluid::FlowField::velocity(&flow, x);
+                let _ = writeln!(velocity, "{} {} {}", u.x, u.y, u.z);
+                let _ = writeln!(points, "{} {} {}", x.x, x.y, x.z);
+            }
+        }
+    }
+    let dir = std::env::temp_dir().join(format!("wetbounce-scaling-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap_or_else(|e| fail(format!("{}: {e}", dir.display())));
+    let u_array = format!(
+        "<DataArray type=\"Float64\" Name=\"U\" NumberOfComponents=\"3\" format=\"ascii\">\n{velocity}</DataArray>"
+    );
+    let (name, text) = if unstructured {
+        let id = |i: usize, j: usize, k: usize| i + (nx + 1) * (j + (ny + 1) * k);
+        let (mut conn, mut offsets, mut types) = (String::new(), String::new(), String::new());
+        let mut count = 0;
+        for k in 0..nz {
+            for j in 0..ny {
+                for i in 0..nx {
+                    let v = [
+                        id(i, j, k),
+                        id(i + 1, j, k),
+                        id(i + 1, j + 1, k),
+                        id(i, j + 1, k),
+                        id(i, j, k + 1),
+                        id(i + 1, j, k + 1),
+                        id(i + 1, j + 1, k + 1),
+                        id(i, j + 1, k + 1),
+                    ];
+                    let _ = writeln!(
+                        conn,
+                        "{} {} {} {} {} {} {} {}",
+                        v[0], v[1], v[2], v[3], v[4], v[5], v[6], v[7]
+                    );
+                    count += 1;
+                    let _ = writeln!(offsets, "{}", 8 * count);
+                    let _ = writeln!(types, "12");
+                }
+            }
+        }
+        let n_points = (nx + 1) * (ny + 1) * (nz + 1);
+        (
+            "pipe.vtu",
+            format!(
+                "<?xml version=\"1.0\"?>\n<VTKFile type=\"UnstructuredGrid\" version=\"1.0\" byte_order=\"LittleEndian\">\n<UnstructuredGrid>\n\
+                 <Piece NumberOfPoints=\"{n_points}\" NumberOfCells=\"{count}\">\n<PointData>\n{u_array}\n</PointData>\n\
+                 <Points>\n<DataArray type=\"Float64\" NumberOfComponents=\"3\" format=\"ascii\">\n{points}</DataArray>\n</Points>\n\
+                 <Cells>\n<DataArray type=\"Int64\" Name=\"connectivity\" format=\"ascii\">\n{conn}</DataArray>\n\
+                 <DataArray type=\"Int64\" Name=\"offsets\" format=\"ascii\">\n{offsets}</DataArray>\n\
+                 <DataArray type=\"UInt8\" Name=\"types\" format=\"ascii\">\n{types}</DataArray>\n</Cells>\n\
+                 </Piece>\n</UnstructuredGrid>\n</VTKFile>\n"
+            ),
+        )
+    } else {
+        (
+            "pipe.vti",
+            format!(
+                "<?xml version=\"1.0\"?>\n<VTKFile type=\"ImageData\" version=\"1.0\" byte_order=\"LittleEndian\">\n\
+                 <ImageData WholeExtent=\"0 {nx} 0 {ny} 0 {nz}\" Origin=\"0 0 0\" Spacing=\"{h} {h} {h}\">\n\
+                 <Piece Extent=\"0 {nx} 0 {ny} 0 {nz}\">\n<PointData>\n{u_array}\n</PointData>\n</Piece>\n</ImageData>\n</VTKFile>\n"
+            ),
+        )
+    };
+    let path = dir.join(name);
+    std::fs::write(&path, text).unwrap_or_else(|e| fail(format!("{}: {e}", path.display())));
+    path
+}
+
 fn scene(case: &str, n: usize) -> Scene {
-    let paper = case.starts_with("paper");
+    let in_pipe = matches!(case, "poiseuille" | "field" | "field-vtu" | "field-vtu-bvh");
+    let paper = case.starts_with("paper") || in_pipe;
     let pairs5 = case == "pairs5";
     let polydisperse = case.starts_with("polydisperse");
     let large = if case == "polydisperse-4mm" { LARGE_4MM } else { LARGE };
@@ -69,9 +174,28 @@ fn scene(case: &str, n: usize) -> Scene {
     } else {
         "euler"
     };
+    let height = 0.04 + extent * 1.2;
+    let (point, radius) = pipe(extent);
+    let mut written = None;
+    let flow = match case {
+        "poiseuille" => format!(
+            "flow = {{ type = \"poiseuille\", point = [{}, {}, 0.0], axis = [0.0, 0.0, 1.0], radius = {radius}, mean_velocity = {PIPE_MEAN} }}\n",
+            point.x, point.y
+        ),
+        "field" | "field-vtu" | "field-vtu-bvh" => {
+            let unstructured = case != "field";
+            let path = write_pipe_field(extent, height, if unstructured { 32 } else { 64 }, unstructured);
+            written = Some(path.clone());
+            format!(
+                "flow = {{ type = \"field\", file = {:?}, outside = \"nearest\" }}\n",
+                path.display().to_string()
+            )
+        }
+        _ => String::new(),
+    };
     let mut text = format!(
         "[simulation]\ndt = 1e-4\nduration = 1.0\noutput_interval = 1.0\nintegrator = \"{integrator}\"\n\
-         [fluid]\ndensity = 1000.0\nviscosity = 0.1\n[effects]\n{}\n",
+         [fluid]\ndensity = 1000.0\nviscosity = 0.1\n{flow}[effects]\n{}\n",
         effects.join("\n")
     );
     for (name, density) in [("glass", 2540.0), ("pmma", 1190.0)] {
@@ -83,7 +207,7 @@ fn scene(case: &str, n: usize) -> Scene {
         "[[walls]]\nname = \"box\"\ntype = \"box\"\nmin = [0.0, 0.0, 0.0]\nmax = [{}, {}, {}]\ninside = true\n",
         extent + beside,
         extent + beside,
-        0.04 + extent * 1.2
+        height
     );
     // Layers alternate between the two kinds in `pairs5`, so they settle through each other.
     let layers = side as usize;
@@ -106,7 +230,12 @@ fn scene(case: &str, n: usize) -> Scene {
             0.02 + 0.5 * extent
         );
     }
-    Scene::from_str(&text, Path::new("scaling.toml")).unwrap_or_else(|e| panic!("{case}: {e}"))
+    let scene = Scene::from_str(&text, Path::new("scaling.toml")).unwrap_or_else(|e| panic!("{case}: {e}"));
+    // The scene holds the field it read: the file is no longer needed.
+    if let Some(dir) = written.as_deref().and_then(Path::parent) {
+        let _ = std::fs::remove_dir_all(dir);
+    }
+    scene
 }
 
 /// Ends the run with an error line (bad arguments, a file that cannot be written).
@@ -139,6 +268,10 @@ fn main() {
         "fines",
         "polydisperse",
         "polydisperse-4mm",
+        "poiseuille",
+        "field",
+        "field-vtu",
+        "field-vtu-bvh",
     ];
     let env_number = |name: &str| {
         std::env::var(name).ok().map(|s| {
@@ -157,6 +290,10 @@ fn main() {
                 let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build().expect("threads");
                 let mut sim = base.simulation();
                 sim.setup.pair_collisions = case != "paper-no-pairs";
+                if case == "field-vtu-bvh" {
+                    sim.world.particles.remembers_tet = false;
+                    sim.world.particles.tet.clear();
+                }
                 let count = sim.world.particles.len();
                 // At least 200 steps (20 ms): enough for the Verlet list to be rebuilt in `pairs5`.
                 let steps = std::env::var("SCALING_STEPS")

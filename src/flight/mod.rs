@@ -51,6 +51,10 @@ pub struct Kernel<'a, M> {
     nonlinear: Option<NonLinear<'a>>,
     /// With rotation only (PHYSICS.md §9).
     spin: Option<spin::Spin>,
+    /// In a field flow on an unstructured grid only (empty otherwise): each particle's
+    /// tetrahedron at the start of the step, where its flow lookups walk from
+    /// ([`crate::particles::Particles::tet`]).
+    tets: &'a [u32],
 }
 
 /// The effects the free flight cannot fold into the linearised force; a scene has at most one
@@ -93,6 +97,39 @@ impl<'a, M: Motion> Kernel<'a, M> {
             kind_drag_rate: (0..n).map(|k| physics.drag_rate(k, fluid)).collect(),
             kind_fluid_gain: (0..n).map(|k| physics.fluid_acceleration_gain(k, fluid)).collect(),
             re_rate: if mu > 0.0 { fluid.density / mu } else { 0.0 },
+            tets: &[],
+        }
+    }
+
+    /// With a field flow on an unstructured grid: the kernel's flow lookups for particle `i`
+    /// walk from `tets[i]`, the tetrahedron that held it at the start of the step. The hint
+    /// is not moved along with the integrator's stages: they evaluate the flow within one
+    /// step's move of the start (a fraction of a cell at a stable step), a walk of a face or
+    /// two, and the kernel's force fields are immutable values shared by the stages (`Copy`,
+    /// read by the lane groups and the tracks alike). The end of the step finds the new one.
+    pub fn walking_from(mut self, tets: &'a [u32]) -> Self {
+        self.tets = tets;
+        self
+    }
+
+    /// Whether the flow's lookups walk from remembered tetrahedra: the lane groups then give
+    /// way to one particle at a time, each with its own start (a field's lookup is per point
+    /// anyway, so the lanes bought nothing there).
+    #[inline(always)]
+    pub fn walks(&self) -> bool {
+        M::HINTED && !self.tets.is_empty()
+    }
+
+    /// [`Kernel::field`] of particle `i` ([`Segment::memory`]'s index, or [`NO_MEMORY`]),
+    /// its flow's lookups walking from its tetrahedron ([`Kernel::walking_from`]).
+    #[inline(always)]
+    pub fn field_of(&self, k: usize, d: f64, i: u32) -> M::Field<DVec3> {
+        let field = self.field(k, d);
+        if M::HINTED {
+            let tet = self.tets.get(i as usize).copied().unwrap_or(crate::particles::NO_TET);
+            M::hinted(field, tet)
+        } else {
+            field
         }
     }
 
@@ -226,7 +263,7 @@ impl<'a, M: Motion> Kernel<'a, M> {
     /// `t1`, starting at `(x, v)` in `state` on `wall`. A particle held at a wall stays.
     #[inline(always)]
     pub fn free_flight(&self, start: Segment, (k, d): (usize, f64), t1: f64) -> Flight {
-        self.fly(&self.field(k, d), (k, 0.5 * d), &start, t1 - start.t)
+        self.fly(&self.field_of(k, d, start.memory), (k, 0.5 * d), &start, t1 - start.t)
     }
 
     /// [`Kernel::free_flight`] writing the memory at `t1` into `out` ([`Kernel::fly_remembering`]).
@@ -237,7 +274,7 @@ impl<'a, M: Motion> Kernel<'a, M> {
         t1: f64,
         out: &mut [DVec3],
     ) -> Flight {
-        self.fly_remembering(&self.field(k, d), (k, 0.5 * d), &start, t1 - start.t, out)
+        self.fly_remembering(&self.field_of(k, d, start.memory), (k, 0.5 * d), &start, t1 - start.t, out)
     }
 
     /// The net acceleration (m/s²) of a particle of kind `k` and diameter `d` at `x` moving at

@@ -16,6 +16,12 @@ pub trait Motion: Sync {
     /// Whether the flow has a material acceleration the force reads ([`FlowField::ACCELERATES`]):
     /// only a field with the fluid-acceleration effect.
     const ACCELERATES: bool;
+    /// Whether the flow's lookups can walk from a particle's remembered tetrahedron
+    /// ([`FlowField::HINTED`]).
+    const HINTED: bool;
+    /// The field of one particle, its flow's lookups walking from tetrahedron `tet`
+    /// ([`FlowField::hinted`]).
+    fn hinted(field: Self::Field<glam::DVec3>, tet: u32) -> Self::Field<glam::DVec3>;
     /// The field of a particle with constant acceleration `accel` (m/s²), Stokes drag rate
     /// `stokes_rate` (1/s), Reynolds number per unit slip speed `re_per_speed` (s/m) and
     /// acceleration per unit fluid acceleration `fluid_gain` (read only if `ACCELERATES`).
@@ -42,6 +48,12 @@ impl<S: Scheme, D: DragLaw, F: FlowField> Motion for Mover<S, D, F> {
     type Field<V: Vector> = ParticleForce<D, F, V>;
     const LANE_GROUPS: bool = D::LANE_GROUPS;
     const ACCELERATES: bool = F::ACCELERATES;
+    const HINTED: bool = F::HINTED;
+
+    #[inline(always)]
+    fn hinted(field: Self::Field<glam::DVec3>, tet: u32) -> Self::Field<glam::DVec3> {
+        ParticleForce { flow: field.flow.hinted(tet), ..field }
+    }
 
     #[inline(always)]
     fn field<V: Vector>(

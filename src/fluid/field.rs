@@ -13,7 +13,7 @@ pub mod unstructured;
 use super::FlowField;
 use glam::DVec3;
 use structured::{Stencil, Structured};
-use unstructured::Unstructured;
+use unstructured::{NO_TET, Unstructured};
 
 /// Where the file's velocity values sit.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -177,7 +177,7 @@ impl Field {
         let n = s.len();
         let (first, last) = (s[0].time, s[n - 1].time);
         if n == 1 {
-            return FieldAt { field: self, a: 0, b: 0, w: 0.0 };
+            return FieldAt { field: self, a: 0, b: 0, w: 0.0, hint: NO_TET };
         }
         let t = match self.period {
             Some(p) => first + (t - first).rem_euclid(p),
@@ -188,14 +188,14 @@ impl Field {
             // the first, reached at first + period.
             return match self.period {
                 Some(p) if t > last => {
-                    FieldAt { field: self, a: n - 1, b: 0, w: (t - last) / (first + p - last) }
+                    FieldAt { field: self, a: n - 1, b: 0, w: (t - last) / (first + p - last), hint: NO_TET }
                 }
-                _ => FieldAt { field: self, a: n - 1, b: n - 1, w: 0.0 },
+                _ => FieldAt { field: self, a: n - 1, b: n - 1, w: 0.0, hint: NO_TET },
             };
         }
         let b = s.partition_point(|x| x.time <= t).clamp(1, n - 1);
         let a = b - 1;
-        FieldAt { field: self, a, b, w: (t - s[a].time) / (s[b].time - s[a].time) }
+        FieldAt { field: self, a, b, w: (t - s[a].time) / (s[b].time - s[a].time), hint: NO_TET }
     }
 
     /// The point of the grid's frame that `x` maps to, and for an axisymmetric table the
@@ -236,16 +236,33 @@ impl Field {
         }
     }
 
-    /// The stencil at `x`'s grid point, whether the point is inside, and the axisymmetric frame.
+    /// Whether lookups in this field walk from a remembered tetrahedron (an unstructured
+    /// grid): the particles then carry one ([`crate::particles::Particles::tet`]).
+    pub fn walks(&self) -> bool {
+        matches!(self.grid, Grid::Unstructured(_))
+    }
+
+    /// The tetrahedron of an unstructured grid holding `x`, walking from tetrahedron `start`;
+    /// [`NO_TET`] outside the grid (and on a structured grid).
+    pub fn tet_of(&self, start: u32, x: DVec3) -> u32 {
+        match &self.grid {
+            Grid::Structured(_) => NO_TET,
+            Grid::Unstructured(g) => g.tet_of(start, self.to_grid(x).0),
+        }
+    }
+
+    /// The stencil at `x`'s grid point (an unstructured grid's lookup walking from tetrahedron
+    /// `hint`) without its gradient (the velocity's), whether the point is inside, and the
+    /// axisymmetric frame.
     #[inline]
-    fn stencil(&self, x: DVec3) -> (Stencil, bool, Option<(DVec3, DVec3, DVec3)>) {
+    fn stencil(&self, x: DVec3, hint: u32) -> (Stencil, bool, Option<(DVec3, DVec3, DVec3)>) {
         let (q, frame) = self.to_grid(x);
         let (s, inside) = match &self.grid {
             Grid::Structured(g) => {
                 let inside = g.contains(q);
-                (g.stencil(if inside { q } else { g.clamp(q) }), inside)
+                (g.weights(if inside { q } else { g.clamp(q) }), inside)
             }
-            Grid::Unstructured(g) => match g.stencil(q) {
+            Grid::Unstructured(g) => match g.stencil_from(hint, q, false) {
                 Ok(s) => (s, true),
                 Err(s) => (s, false),
             },
@@ -385,6 +402,9 @@ pub struct FieldAt<'a> {
     a: usize,
     b: usize,
     w: f64,
+    /// On an unstructured grid, the tetrahedron the lookups walk from ([`NO_TET`]: the search
+    /// tree): one particle's, set by [`FlowField::hinted`].
+    hint: u32,
 }
 
 impl FieldAt<'_> {
@@ -400,7 +420,7 @@ impl FieldAt<'_> {
     /// The same field at snapshot `k` alone.
     #[inline]
     fn snapshot(&self, k: usize) -> FieldAt<'_> {
-        FieldAt { field: self.field, a: k, b: k, w: 0.0 }
+        FieldAt { field: self.field, a: k, b: k, w: 0.0, hint: self.hint }
     }
 }
 
@@ -420,6 +440,12 @@ pub struct Accelerating<'a> {
 
 impl FlowField for Accelerating<'_> {
     const ACCELERATES: bool = true;
+    const HINTED: bool = true;
+
+    #[inline]
+    fn hinted(self, tet: u32) -> Self {
+        Accelerating { at: self.at.hinted(tet), ..self }
+    }
 
     #[inline]
     fn velocity(&self, x: DVec3) -> DVec3 {
@@ -441,10 +467,17 @@ impl FlowField for Accelerating<'_> {
 }
 
 impl FlowField for FieldAt<'_> {
+    const HINTED: bool = true;
+
+    #[inline]
+    fn hinted(self, tet: u32) -> Self {
+        FieldAt { hint: tet, ..self }
+    }
+
     #[inline]
     fn velocity(&self, x: DVec3) -> DVec3 {
         let f = self.field;
-        let (s, inside, frame) = f.stencil(x);
+        let (s, inside, frame) = f.stencil(x, self.hint);
         if !inside && f.outside == Outside::Zero {
             return DVec3::ZERO;
         }

@@ -46,10 +46,11 @@ use crate::flight::{Kernel, Motion, StepFlow, WithMotion, dispatch};
 use crate::fluid::Fluid;
 use crate::fluid::field::{Outside, OutsideField};
 use crate::integrate::IntegratorKind;
-use crate::particles::{Next, ParticleKind, Particles};
+use crate::particles::{NO_TET, Next, ParticleKind, Particles};
 use crate::walls::Wall;
 use inject::{Injector, InjectorState};
 use outlets::{Outlet, Removal};
+use rayon::prelude::*;
 use std::time::{Duration, Instant};
 
 /// What a scene fixes: nothing here changes while the simulation runs.
@@ -291,6 +292,10 @@ impl WithMotion for StepWith<'_> {
         // kernel while the pass writes the memory at its end into `scratch.next` (commit swaps
         // them, like the other columns). Empty without the effect.
         let start_memory = std::mem::take(&mut world.particles.memory);
+        // In a field on an unstructured grid, the tetrahedra at the start of the step, read
+        // by the flight kernel; the end of the step finds the new ones (below). Empty
+        // otherwise.
+        let mut tets = std::mem::take(&mut world.particles.tet);
         let flight =
             Kernel::new(motion, &setup.physics, &setup.fluid, &setup.kinds, &setup.walls, t0 + 0.5 * h)
                 .remembering(
@@ -299,7 +304,8 @@ impl WithMotion for StepWith<'_> {
                     &start_memory,
                     setup.physics.history.as_ref(),
                     t1 - t0,
-                );
+                )
+                .walking_from(&tets);
         let ctx = contact::Ctx::new(
             &flight,
             &setup.physics,
@@ -345,6 +351,16 @@ impl WithMotion for StepWith<'_> {
         // 5. Lasting contacts.
         suspect |= contact::keep_lasting(&ctx, p, next, lasting, neighbour_pairs, h);
         laps.lap(&mut times.lasting);
+        drop(ctx);
+        drop(flight);
+        // The tetrahedron holding each particle's end of the step, walking from its start's:
+        // before commit, so that the column is renumbered with the others.
+        if let Some(field) = setup.fluid.flow.field()
+            && !tets.is_empty()
+        {
+            tets.par_iter_mut().zip(next.pos.par_iter()).for_each(|(t, &x)| *t = field.tet_of(*t, x));
+        }
+        p.tet = tets;
         // 6. Commit.
         let mut renumbered = commit::run(p, next, suspect, t1, &mut record.lost, lasting);
         laps.lap(&mut times.commit);
@@ -364,19 +380,17 @@ impl WithMotion for StepWith<'_> {
             && field.outside == Outside::Error
             && record.left_field.is_none()
         {
-            record.left_field = (0..p.len()).find(|&i| !field.contains(p.pos[i])).map(|i| OutsideField {
-                id: p.id[i],
-                position: p.pos[i],
-                time: t1,
-            });
+            // A particle with a tetrahedron is inside: only the others are looked up.
+            let unknown = |i: usize| p.tet.get(i).is_none_or(|&t| t == NO_TET);
+            record.left_field = (0..p.len())
+                .find(|&i| unknown(i) && !field.contains(p.pos[i]))
+                .map(|i| OutsideField { id: p.id[i], position: p.pos[i], time: t1 });
         }
         laps.lap(&mut times.inflow_outflow);
         // 8. Emit: the step's events wait in `record.events` for the sinks.
         world.time = t1;
         world.steps += 1;
         // The memory at the start of the step becomes the next step's scratch.
-        drop(ctx);
-        drop(flight);
         scratch.next.memory = start_memory;
     }
 }

@@ -151,7 +151,7 @@ fn free_chunk<M: Motion>(flight: &Kernel<M>, mut c: Columns, t0: f64, t1: f64) -
     // Lane groups pay for every law where one vector instruction holds a whole group (AVX2),
     // and otherwise for the laws that say so.
     let wide = matches!(selected_target!().suggested_simd_width::<f64>(), Some(w) if w >= LANES);
-    let lanes_pay = M::LANE_GROUPS || wide;
+    let lanes_pay = (M::LANE_GROUPS || wide) && !flight.walks();
     let by_lanes = if lanes_pay { c.pos.len() / LANES * LANES } else { 0 };
     let (pos, vel, kind, diameter) = (
         c.pos[..by_lanes].as_chunks::<LANES>().0,
@@ -166,7 +166,7 @@ fn free_chunk<M: Motion>(flight: &Kernel<M>, mut c: Columns, t0: f64, t1: f64) -
         (*x1, *v1) = (xn.to_array(), vn.to_array());
     }
     for j in by_lanes..c.pos.len() {
-        let field = flight.field(c.kind[j] as usize, c.diameter[j]);
+        let field = flight.field_of(c.kind[j] as usize, c.diameter[j], (c.base + j) as u32);
         (c.x1[j], c.v1[j]) = flight.motion.advance(&field, c.pos[j], c.vel[j], h);
     }
     // With wall lubrication, the few whose move comes within its range of a wall fly again,

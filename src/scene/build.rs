@@ -204,6 +204,13 @@ pub(super) fn build(
     }
     // After `dt = "auto"` has chosen: its step is far inside the limit, and this says so.
     check_stable_step(&scene.setup, &scene.particles)?;
+    if scene.setup.fluid.flow.field().is_some_and(|f| f.walks()) {
+        // One remembered tetrahedron per particle, for the walk (physics.md §7); found at the
+        // end of the first step.
+        let p = &mut scene.particles;
+        p.remembers_tet = true;
+        p.tet = vec![crate::particles::NO_TET; p.len()];
+    }
     if let Some(kernel) = &scene.setup.physics.history {
         check_history_window(kernel, scene.setup.dt)?;
         // One memory per particle, allocated only here (PHYSICS.md §10).

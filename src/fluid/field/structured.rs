@@ -46,7 +46,9 @@ impl Axis {
         }
         let i = match self.uniform {
             Some((x0, inv_h)) => {
-                let s = ((x - x0) * inv_h).floor();
+                // Truncation is the floor for s ≥ 0 (and a call to `floor` where the target
+                // has no rounding instruction).
+                let s = (x - x0) * inv_h;
                 if s < 0.0 { 0 } else { (s as usize).min(n - 2) }
             }
             None => self.nodes.partition_point(|&c| c <= x).saturating_sub(1).min(n - 2),
@@ -110,6 +112,19 @@ impl Structured {
     /// The trilinear stencil at `p`, which must lie in the field ([`Structured::clamp`]).
     #[inline]
     pub fn stencil(&self, p: DVec3) -> Stencil {
+        self.stencil_of(p, true)
+    }
+
+    /// [`Structured::stencil`] without the gradient (left zero): what a velocity needs.
+    #[inline]
+    pub fn weights(&self, p: DVec3) -> Stencil {
+        self.stencil_of(p, false)
+    }
+
+    /// The stencil at `p`, its gradient only `with_gradient`. Corner `c` is `(c & 1, c >> 1 & 1,
+    /// c >> 2)` cells along (x, y, z), VTK's order.
+    #[inline(always)]
+    fn stencil_of(&self, p: DVec3, with_gradient: bool) -> Stencil {
         let [nx, ny, _] = self.dims();
         let (i, tx) = self.axes[0].cell(p.x);
         let (j, ty) = self.axes[1].cell(p.y);
@@ -120,20 +135,20 @@ impl Structured {
         let (di, gx) = step(&self.axes[0], i);
         let (dj, gy) = step(&self.axes[1], j);
         let (dk, gz) = step(&self.axes[2], k);
+        // An axis of one node contributes its single node twice, each with weight 1 − 0 or 0.
+        let base = i + nx * (j + ny * k);
+        let offset = [[0, di], [0, nx * dj], [0, nx * ny * dk]];
+        let (wx, wy, wz) = ([1.0 - tx, tx], [1.0 - ty, ty], [1.0 - tz, tz]);
+        let (dx, dy, dz) = ([-gx, gx], [-gy, gy], [-gz, gz]);
         let mut s = Stencil::default();
-        for (c, (a, b, e)) in
-            [(0, 0, 0), (1, 0, 0), (0, 1, 0), (1, 1, 0), (0, 0, 1), (1, 0, 1), (0, 1, 1), (1, 1, 1)]
-                .into_iter()
-                .enumerate()
-        {
-            let (wx, dx) = if a == 1 { (tx, gx) } else { (1.0 - tx, -gx) };
-            let (wy, dy) = if b == 1 { (ty, gy) } else { (1.0 - ty, -gy) };
-            let (wz, dz) = if e == 1 { (tz, gz) } else { (1.0 - tz, -gz) };
-            // An axis of one node contributes its single node twice, each with weight 1 − 0 or 0.
-            let node = (i + a * di) + nx * ((j + b * dj) + ny * (k + e * dk));
-            s.nodes[c] = node as u32;
-            s.weights[c] = wx * wy * wz;
-            s.gradient[c] = DVec3::new(dx * wy * wz, wx * dy * wz, wx * wy * dz);
+        for c in 0..8 {
+            let (a, b, e) = (c & 1, (c >> 1) & 1, c >> 2);
+            s.nodes[c] = (base + offset[0][a] + offset[1][b] + offset[2][e]) as u32;
+            s.weights[c] = wx[a] * wy[b] * wz[e];
+            if with_gradient {
+                s.gradient[c] =
+                    DVec3::new(dx[a] * wy[b] * wz[e], wx[a] * dy[b] * wz[e], wx[a] * wy[b] * dz[e]);
+            }
         }
         s
     }

@@ -249,3 +249,84 @@ fn time_series_is_linear_in_time_and_periodic_when_asked() {
     assert_eq!(u(&periodic, 6.0), 10.0); // t = 6 is t = 2
     assert_eq!(u(&periodic, 0.0), 20.0); // t = 0 is t = 4, the last snapshot
 }
+
+mod walk {
+    use super::*;
+    use proptest::prelude::*;
+    use rand::Rng;
+    use std::sync::OnceLock;
+
+    /// A tetrahedral and a hexahedral grid of the unit cube, distorted, with `analytic` on them.
+    fn grids() -> &'static [Field; 2] {
+        static GRIDS: OnceLock<[Field; 2]> = OnceLock::new();
+        GRIDS.get_or_init(|| [mesh_field(5, 0.25, true, analytic), mesh_field(5, 0.25, false, analytic)])
+    }
+
+    fn tets(field: &Field) -> &Unstructured {
+        match &field.grid {
+            Grid::Unstructured(g) => g,
+            Grid::Structured(_) => unreachable!("an unstructured test grid"),
+        }
+    }
+
+    #[test]
+    fn every_inner_face_has_one_neighbour_across_it_and_it_points_back() {
+        for (field, kind) in grids().iter().zip(["tetrahedra", "hexahedra"]) {
+            let g = tets(field);
+            let n = g.neighbours();
+            // The cube's six sides, 5 × 5 faces of a cell each, two triangles a face (a
+            // hexahedron's face cut in two, or the faces of two tetrahedral cells).
+            let boundary = n.iter().flatten().filter(|&&t| t == NO_TET).count();
+            assert_eq!(boundary, 6 * 25 * 2, "{kind}");
+            for (t, across) in n.iter().enumerate() {
+                for &u in across.iter().filter(|&&u| u != NO_TET) {
+                    assert!(n[u as usize].contains(&(t as u32)), "{t} → {u} and back");
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn a_walk_from_a_neighbouring_tetrahedron_finds_the_trees_tetrahedron() {
+        let field = &grids()[1];
+        let g = tets(field);
+        let mut rng = ChaCha8Rng::seed_from_u64(11);
+        for _ in 0..200 {
+            let p = DVec3::new(rng.random(), rng.random(), rng.random());
+            let found = g.tet_of(NO_TET, p);
+            assert_ne!(found, NO_TET, "{p} is inside");
+            // A point a fifth of a cell away, walked to from the first one's tetrahedron.
+            let q = (p + DVec3::new(rng.random(), rng.random(), rng.random()) * 0.04).min(DVec3::ONE);
+            let walked = g.tet_of(found, q);
+            let mine = g.tet_of(NO_TET, q);
+            let l = |t: u32| field.at(0.0).hinted(t).velocity(q);
+            assert_ne!(walked, NO_TET);
+            assert!((l(walked) - l(mine)).length() <= 1e-12, "{q}: {walked} vs {mine}");
+        }
+    }
+
+    proptest! {
+        #![proptest_config(ProptestConfig::with_cases(400))]
+        /// Whichever tetrahedron the lookup starts from (none: the search tree), it gives the
+        /// tree's value, inside the grid and outside it (the nearest point's), up to rounding
+        /// on a face shared by two tetrahedra.
+        #[test]
+        fn walking_from_any_tetrahedron_gives_the_search_trees_value(
+            grid in 0usize..2,
+            x in -0.05f64..1.05,
+            y in -0.05f64..1.05,
+            z in -0.05f64..1.05,
+            start in any::<prop::sample::Index>(),
+            unknown in any::<bool>(),
+        ) {
+            let field = &grids()[grid];
+            let n = tets(field).tets.len();
+            let hint = if unknown { NO_TET } else { start.index(n) as u32 };
+            let p = DVec3::new(x, y, z);
+            let at = field.at(0.0);
+            let (tree, walked) = (at.velocity(p), at.hinted(hint).velocity(p));
+            prop_assert!((tree - walked).length() <= 1e-12 * tree.length().max(1.0), "{p}: {tree} vs {walked}");
+            prop_assert_eq!(field.tet_of(hint, p) == NO_TET, !field.contains(p));
+        }
+    }
+}

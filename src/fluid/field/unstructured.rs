@@ -7,6 +7,15 @@
 //! from its lowest-numbered vertex, so the two cells sharing a face split it the same way and
 //! the tetrahedra of neighbouring cells meet face to face: the interpolant is continuous. A
 //! linear field is reproduced exactly, so the interpolation is second order in the cell size.
+//!
+//! Because they meet face to face, each tetrahedron knows its four face neighbours (found once
+//! at load). A lookup that starts from a tetrahedron near the point (the one that held the same
+//! particle at the end of the last step, [`crate::particles::Particles::tet`]) walks there: if
+//! the point is outside the tetrahedron, it crosses the face opposite the most negative
+//! barycentric coordinate, and again, up to [`WALK_STEPS`] times; the search tree is the
+//! fallback when the walk has no start, leaves the grid (a concave boundary, a face two cells do
+//! not share whole) or takes longer. Whichever tetrahedron the point is found in, the value is
+//! the same up to rounding, since the interpolant is continuous across their shared faces.
 
 use super::structured::Stencil;
 use glam::DVec3;
@@ -77,6 +86,47 @@ pub struct Unstructured {
     pub bounds: Aabb,
     /// The smallest and largest cell size (m): the cube root of the cell's volume.
     pub cell_size_range: (f64, f64),
+    /// `neighbours[t][i]`: the tetrahedron across the face of `t` opposite its vertex `i`, or
+    /// [`NO_TET`] on the grid's boundary (or where no other tetrahedron has that face whole).
+    neighbours: Vec<[u32; 4]>,
+}
+
+pub use crate::particles::NO_TET;
+
+/// The most faces a walk crosses before the lookup falls back to the search tree: a particle
+/// rarely crosses more than a cell (about six tetrahedra) in a step; a longer walk means a
+/// remembered tetrahedron far from the point, where the tree is as quick.
+pub const WALK_STEPS: usize = 24;
+
+/// The face neighbours of `tets` ([`Unstructured::neighbours`]): the faces sorted by their
+/// vertices, so that the two tetrahedra sharing one are side by side.
+fn face_neighbours(tets: &[[u32; 4]]) -> Vec<[u32; 4]> {
+    let mut faces: Vec<([u32; 3], u32, u8)> = Vec::with_capacity(4 * tets.len());
+    for (t, v) in tets.iter().enumerate() {
+        for i in 0..4 {
+            let mut f = [v[(i + 1) % 4], v[(i + 2) % 4], v[(i + 3) % 4]];
+            f.sort_unstable();
+            faces.push((f, t as u32, i as u8));
+        }
+    }
+    faces.sort_unstable();
+    let mut neighbours = vec![[NO_TET; 4]; tets.len()];
+    let mut k = 0;
+    while k < faces.len() {
+        let mut e = k + 1;
+        while e < faces.len() && faces[e].0 == faces[k].0 {
+            e += 1;
+        }
+        // Exactly two: a face of three or more tetrahedra (a broken mesh) links none of them,
+        // and the lookup falls back to the tree there.
+        if e - k == 2 {
+            let ((_, a, i), (_, b, j)) = (faces[k], faces[k + 1]);
+            neighbours[a as usize][i as usize] = b;
+            neighbours[b as usize][j as usize] = a;
+        }
+        k = e;
+    }
+    neighbours
 }
 
 /// Barycentric coordinates of `p` in the tetrahedron `t`, and its six-fold signed volume.
@@ -174,7 +224,9 @@ impl Unstructured {
         }
         let bounds = boxes.iter().fold(Aabb::new_invalid(), |a, b| a.merged(b));
         let bvh = Bvh::from_leaves(BvhBuildStrategy::Binned, &boxes);
+        let neighbours = face_neighbours(&tets);
         Ok(Unstructured {
+            neighbours,
             nodes,
             points: n_points,
             tets,
@@ -197,8 +249,9 @@ impl Unstructured {
         self.tets[t].map(|i| self.nodes[i as usize])
     }
 
-    /// The tetrahedron holding `p`, among those of the cells whose boxes hold it.
-    fn locate(&self, p: DVec3) -> Result<usize, ()> {
+    /// The tetrahedron holding `p`, among those of the cells whose boxes hold it, and `p`'s
+    /// barycentric coordinates in it.
+    fn locate(&self, p: DVec3) -> Result<(usize, [f64; 4]), ()> {
         for cell in self.bvh.leaves(|n: &BvhNode| n.aabb().contains_local_point(p)) {
             let c = cell as usize;
             if !self.boxes[c].contains_local_point(p) {
@@ -208,11 +261,46 @@ impl Unstructured {
                 let (l, _) = barycentric(self.corners(t), p);
                 let worst = l[0].min(l[1]).min(l[2]).min(l[3]);
                 if worst >= INSIDE {
-                    return Ok(t);
+                    return Ok((t, l));
                 }
             }
         }
         Err(())
+    }
+
+    /// The tetrahedron holding `p`, walking from tetrahedron `start` (see the module's
+    /// documentation); the search tree when `start` is [`NO_TET`] or the walk fails.
+    fn locate_from(&self, start: u32, p: DVec3) -> Result<(usize, [f64; 4]), ()> {
+        let mut t = start as usize;
+        if t < self.tets.len() {
+            for _ in 0..WALK_STEPS {
+                let (l, _) = barycentric(self.corners(t), p);
+                // The first most negative coordinate.
+                let worst = (1..4).fold(0, |w, i| if l[i] < l[w] { i } else { w });
+                if l[worst] >= INSIDE {
+                    return Ok((t, l));
+                }
+                // Not a NaN coordinate either: a point that is not finite ends on the tree.
+                let next = self.neighbours[t][worst];
+                if next == NO_TET || l[worst].is_nan() {
+                    break;
+                }
+                t = next as usize;
+            }
+        }
+        self.locate(p)
+    }
+
+    /// The tetrahedron holding `p` ([`NO_TET`] when none does), walking from `start`: what a
+    /// particle remembers for its next lookups.
+    pub fn tet_of(&self, start: u32, p: DVec3) -> u32 {
+        self.locate_from(start, p).map_or(NO_TET, |(t, _)| t as u32)
+    }
+
+    /// The face neighbours of every tetrahedron ([`Unstructured::neighbours`]), for tests.
+    #[cfg(test)]
+    pub(crate) fn neighbours(&self) -> &[[u32; 4]] {
+        &self.neighbours
     }
 
     /// Whether `p` lies in a cell of the grid.
@@ -224,11 +312,25 @@ impl Unstructured {
     /// grid's nearest point (`Err`, so that the caller applies its policy).
     #[allow(clippy::result_large_err)] // a stencil either way; Err says the point was outside
     pub fn stencil(&self, p: DVec3) -> Result<Stencil, Stencil> {
-        match self.locate(p) {
-            Ok(t) => Ok(self.tet_stencil(t, p, false)),
+        self.stencil_from(NO_TET, p, true)
+    }
+
+    /// [`Unstructured::stencil`], the lookup walking from tetrahedron `start`
+    /// ([`Unstructured::tet_of`]), the gradient only `with_gradient` (a velocity needs none).
+    #[allow(clippy::result_large_err)] // as `stencil`
+    #[inline]
+    pub fn stencil_from(&self, start: u32, p: DVec3, with_gradient: bool) -> Result<Stencil, Stencil> {
+        match self.locate_from(start, p) {
+            Ok((t, l)) => Ok(self.tet_stencil(t, l, with_gradient)),
             Err(_) => {
                 let (t, q) = self.nearest(p);
-                Err(self.tet_stencil(t, q, true))
+                // `q` is the nearest point of the grid, on this tetrahedron's surface up to
+                // round-off. Outside the grid the value is constant along the outward
+                // direction: no gradient is claimed there.
+                let (l, _) = barycentric(self.corners(t), q);
+                let l = l.map(|x| x.max(0.0));
+                let sum: f64 = l.iter().sum();
+                Err(self.tet_stencil(t, l.map(|x| x / sum), false))
             }
         }
     }
@@ -264,21 +366,12 @@ impl Unstructured {
         }
     }
 
-    fn tet_stencil(&self, t: usize, p: DVec3, clamp: bool) -> Stencil {
-        let corners = self.corners(t);
-        let (mut l, _) = barycentric(corners, p);
-        let gradient = if clamp {
-            // `p` is the nearest point of the grid, on this tetrahedron's surface up to
-            // round-off. Outside the grid the value is constant along the outward direction:
-            // no gradient is claimed there.
-            l = l.map(|x| x.max(0.0));
-            let sum: f64 = l.iter().sum();
-            l = l.map(|x| x / sum);
-            [DVec3::ZERO; 4]
-        } else {
-            barycentric_gradients(corners)
-        };
+    /// The stencil of tetrahedron `t` with weights `l` (the barycentric coordinates of the
+    /// point), and the weights' gradients only `with_gradient`.
+    #[inline]
+    fn tet_stencil(&self, t: usize, l: [f64; 4], with_gradient: bool) -> Stencil {
         let mut s = Stencil::default();
+        let gradient = if with_gradient { barycentric_gradients(self.corners(t)) } else { [DVec3::ZERO; 4] };
         for i in 0..4 {
             s.nodes[i] = self.tets[t][i];
             s.weights[i] = l[i];
