@@ -26,6 +26,7 @@ pub mod correlations;
 pub mod effects;
 pub mod flight;
 pub mod fluid;
+pub mod heap;
 pub mod integrate;
 pub mod numeric;
 pub mod output;

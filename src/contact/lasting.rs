@@ -59,6 +59,22 @@ impl LastingContact {
     }
 }
 
+/// The forces a wall carried on a particle in the last step, with friction **[ext]**: the warm
+/// start of its rows in the next step, as [`LastingContact::force`] and
+/// [`LastingContact::friction`] are of a pair's. Kept by particle id (not index: outlets and
+/// commit renumber particles), wall and part; sorted by that key.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct WallContact {
+    /// The particle's id.
+    pub id: u32,
+    /// The wall's index and the part of it touched.
+    pub wall: (u32, crate::walls::Part),
+    /// Normal force (N, pushing the particle off the wall).
+    pub force: f64,
+    /// Tangential force and rolling-resistance torque on the particle (N, N m).
+    pub friction: (DVec3, DVec3),
+}
+
 /// Keeps the particles with `keep[i]` in `p`, in order, and renumbers the lasting contacts
 /// (dropping those of removed particles).
 pub fn remove_particles(p: &mut Particles, keep: &[bool], lasting: &mut Vec<LastingContact>) {
@@ -82,6 +98,8 @@ pub fn remove_particles(p: &mut Particles, keep: &[bool], lasting: &mut Vec<Last
 /// involved, the wall's normal towards it, and the impulse accumulated so far (N s).
 struct WallRow {
     k: usize,
+    /// The warm start's key: the wall's index and part.
+    wall: (u32, crate::walls::Part),
     n: DVec3,
     impulse: f64,
     /// With friction: its rows (the wall is `b`).
@@ -221,6 +239,7 @@ pub(crate) fn keep_lasting<M: Motion>(
     next: &mut Next,
     contacts: &mut Vec<LastingContact>,
     neighbour_pairs: &[[u32; 2]],
+    wall_contacts: &mut Vec<WallContact>,
     h: f64,
 ) -> bool {
     let friction = ctx.rule.friction;
@@ -293,9 +312,10 @@ pub(crate) fn keep_lasting<M: Motion>(
         involved.dedup();
     }
     if involved.is_empty() {
+        wall_contacts.clear();
         return false;
     }
-    let spins = friction.then_some((&mut next.omega[..], &next.wall[..]));
+    let spins = friction.then_some((&mut next.omega[..], &next.wall[..], wall_contacts));
     solve_velocities(ctx, p, (x, v, state), spins, contacts, &involved, &w, h);
     involved.iter().any(|&i| !(x[i].is_finite() && v[i].is_finite()))
 }
@@ -401,7 +421,7 @@ fn solve_velocities<M: Motion>(
     ctx: &Ctx<M>,
     p: &Particles,
     (x, v, state): (&[DVec3], &mut [DVec3], &[State]),
-    spins: Option<(&mut [DVec3], &[u32])>,
+    spins: Option<(&mut [DVec3], &[u32], &mut Vec<WallContact>)>,
     contacts: &mut [LastingContact],
     involved: &[usize],
     w: &impl Fn(usize) -> f64,
@@ -414,9 +434,9 @@ fn solve_velocities<M: Motion>(
     let local = |i: u32| place.of(i as usize);
     let inv: Vec<f64> = involved.iter().map(|&i| w(i)).collect();
     let mut vel: Vec<DVec3> = involved.iter().map(|&i| v[i]).collect();
-    let (omega, wall_of) = match spins {
-        Some((omega, wall_of)) => (Some(omega), Some(wall_of)),
-        None => (None, None),
+    let (omega, wall_of, mut wall_contacts) = match spins {
+        Some((omega, wall_of, last)) => (Some(omega), Some(wall_of), Some(last)),
+        None => (None, None, None),
     };
     let mut spin = omega.as_ref().map(|omega| Spins {
         omega: involved.iter().map(|&i| omega[i]).collect(),
@@ -439,7 +459,13 @@ fn solve_velocities<M: Motion>(
         // impulse on it, and bounds its friction.
         let resting_on = wall_of.filter(|_| state[i] == State::Resting).map(|walls| walls[i] as usize);
         for (wi, wall) in ctx.walls().iter().enumerate().filter(|(_, w)| near(w)) {
-            wall.shape.touching(x[i], r, TOLERANCE * r, |_, g| {
+            wall.shape.touching(x[i], r, TOLERANCE * r, |part, g| {
+                let key = (wi as u32, part);
+                // With friction, the last step's forces at this wall (none: a new contact).
+                let warm = wall_contacts.as_ref().and_then(|last| {
+                    let found = last.binary_search_by(|c| (c.id, c.wall).cmp(&(p.id[i], key)));
+                    found.ok().map(|at| last[at])
+                });
                 let friction = spin.as_ref().map(|_| {
                     let kind = &ctx.kinds[p.kind[i] as usize];
                     let support = if resting_on == Some(wi) {
@@ -449,9 +475,10 @@ fn solve_velocities<M: Motion>(
                         0.0
                     };
                     let f = Friction::between(&kind.friction, &wall.material.friction);
-                    FrictionRows::new(f, support, r, None, g.normal, h)
+                    FrictionRows::new(f, support, r, warm.map(|c| c.friction), -g.normal, h)
                 });
-                walls.push(WallRow { k, n: g.normal, impulse: 0.0, friction })
+                let impulse = warm.map_or(0.0, |c| (c.force * h).max(0.0));
+                walls.push(WallRow { k, wall: key, n: g.normal, impulse, friction })
             });
         }
     }
@@ -470,6 +497,16 @@ fn solve_velocities<M: Motion>(
             PairRow { a: local(c.a), b: local(c.b), n, impulse: warm, friction }
         })
         .collect();
+    // Warm start: the last step's wall forces, as `FrictionRows::sweep` applies them (the wall
+    // is `b`, the normal from the particle to it `−n`).
+    for WallRow { k, n, impulse: j, friction, .. } in &walls {
+        vel[*k] += *n * *j * inv[*k];
+        if let (Some(fr), Some(s)) = (friction, spin.as_mut()) {
+            let (rt, rr) = (fr.tangent, fr.rolling);
+            vel[*k] += rt * inv[*k];
+            s.omega[*k] += (s.radius[*k] * -*n).cross(rt) * s.inv_moment[*k] + rr * s.inv_moment[*k];
+        }
+    }
     for PairRow { a, b, n, impulse: j, friction } in &rows {
         let (a, b, n, j) = (*a, *b, *n, *j);
         vel[a] -= n * j * inv[a];
@@ -491,7 +528,7 @@ fn solve_velocities<M: Motion>(
     };
     for _ in 0..sweeps {
         let mut worst: f64 = 0.0;
-        for WallRow { k, n, impulse: acc, friction } in walls.iter_mut() {
+        for WallRow { k, n, impulse: acc, friction, .. } in walls.iter_mut() {
             let new = (*acc - vel[*k].dot(*n) / inv[*k]).max(0.0);
             let dv = (new - *acc) * inv[*k];
             vel[*k] += *n * dv;
@@ -540,6 +577,17 @@ fn solve_velocities<M: Motion>(
     for (c, row) in contacts.iter_mut().zip(rows) {
         c.force = row.impulse / h;
         c.friction = row.friction.map(|f| (f.tangent / h, f.rolling / h));
+    }
+    if let Some(last) = wall_contacts.as_mut() {
+        last.clear();
+        last.extend(walls.iter().map(|row| WallContact {
+            id: p.id[involved[row.k]],
+            wall: row.wall,
+            force: row.impulse / h,
+            friction:
+                row.friction.as_ref().map_or((DVec3::ZERO, DVec3::ZERO), |f| (f.tangent / h, f.rolling / h)),
+        }));
+        last.sort_unstable_by_key(|c| (c.id, c.wall));
     }
 }
 

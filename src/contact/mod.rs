@@ -28,7 +28,7 @@ pub mod rules;
 
 pub use detect::{ImpactLocation, Neighbours, locate_on_path};
 pub use event::{ContactEvent, Other, Outcome};
-pub use lasting::{LastingContact, PairHold};
+pub use lasting::{LastingContact, PairHold, WallContact};
 pub use rules::{
     BounceRule, Friction, Impact, PairBody, PairImpact, Spinning, Tangential, pair_impact,
     tangential_impulse, wall_impact,

@@ -40,7 +40,9 @@ mod particle_pass;
 
 pub use commit::LostParticle;
 
-use crate::contact::{self, BounceRule, ContactEvent, ImpactLocation, LastingContact, Neighbours, Other};
+use crate::contact::{
+    self, BounceRule, ContactEvent, ImpactLocation, LastingContact, Neighbours, Other, WallContact,
+};
 use crate::effects::Physics;
 use crate::flight::{Kernel, Motion, StepFlow, WithMotion, dispatch};
 use crate::fluid::Fluid;
@@ -132,6 +134,9 @@ pub struct World {
     pub particles: Particles,
     /// Lasting contacts between particles (holds, and pairs that met below `St_c`).
     pub lasting: Vec<LastingContact>,
+    /// With friction: the forces the walls carried on the particles in the last step (the
+    /// warm start of the lasting-contact solver's wall rows), sorted by particle id.
+    pub wall_contacts: Vec<WallContact>,
     /// Verlet neighbour list for particle–particle contacts.
     pub neighbours: Neighbours,
     /// Each injector's counts and random draws, like [`Setup::injectors`].
@@ -349,7 +354,8 @@ impl WithMotion for StepWith<'_> {
         suspect |= contact::resolve_in_step(&ctx, p, (t0, t1), candidates, next, events, lasting);
         laps.lap(&mut times.in_step);
         // 5. Lasting contacts.
-        suspect |= contact::keep_lasting(&ctx, p, next, lasting, neighbour_pairs, h);
+        let wall_contacts = &mut world.wall_contacts;
+        suspect |= contact::keep_lasting(&ctx, p, next, lasting, neighbour_pairs, wall_contacts, h);
         laps.lap(&mut times.lasting);
         drop(ctx);
         drop(flight);
