@@ -10,6 +10,7 @@ use vtkio::model::*;
 use wetbounce::Scene;
 use wetbounce::fluid::FlowField;
 use wetbounce::fluid::field::read::{Request, load};
+use wetbounce::fluid::field::unstructured::hexahedron_corners;
 use wetbounce::fluid::field::{DataAt, Field, FieldInfo, Outside, Snapshot};
 
 /// The linear field of the fixtures: every reader and every grid must reproduce it exactly.
@@ -126,16 +127,7 @@ fn unstructured(n: usize) -> DataSet {
     for k in 0..n {
         for j in 0..n {
             for i in 0..n {
-                connectivity.extend([
-                    id(i, j, k),
-                    id(i + 1, j, k),
-                    id(i + 1, j + 1, k),
-                    id(i, j + 1, k),
-                    id(i, j, k + 1),
-                    id(i + 1, j, k + 1),
-                    id(i + 1, j + 1, k + 1),
-                    id(i, j + 1, k + 1),
-                ]);
+                connectivity.extend(hexahedron_corners(i, j, k).map(|(a, b, c)| id(a, b, c)));
                 offsets.push(connectivity.len() as u64);
                 types.push(CellType::Hexahedron);
             }

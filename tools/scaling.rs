@@ -38,6 +38,7 @@ use std::io::Write;
 use std::path::Path;
 use std::time::Instant;
 use wetbounce::Scene;
+use wetbounce::fluid::field::unstructured::hexahedron_corners;
 
 const D: f64 = 2.5e-3;
 /// The fines' diameter in `fines` and `polydisperse` (m).
@@ -91,16 +92,7 @@ fn write_pipe_field(extent: f64, height: f64, cells: usize, unstructured: bool) 
         for k in 0..nz {
             for j in 0..ny {
                 for i in 0..nx {
-                    let v = [
-                        id(i, j, k),
-                        id(i + 1, j, k),
-                        id(i + 1, j + 1, k),
-                        id(i, j + 1, k),
-                        id(i, j, k + 1),
-                        id(i + 1, j, k + 1),
-                        id(i + 1, j + 1, k + 1),
-                        id(i, j + 1, k + 1),
-                    ];
+                    let v = hexahedron_corners(i, j, k).map(|(a, b, c)| id(a, b, c));
                     let _ = writeln!(
                         conn,
                         "{} {} {} {} {} {} {} {}",

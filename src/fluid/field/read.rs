@@ -4,7 +4,7 @@
 //! -legacy` writes), into a grid and one velocity per node.
 
 use super::structured::{Axis, Structured};
-use super::unstructured::{CellProblem, Unstructured};
+use super::unstructured::{CellProblem, Unstructured, hexahedron_corners};
 use super::{DataAt, Grid};
 use glam::DVec3;
 use std::path::{Path, PathBuf};
@@ -281,16 +281,7 @@ fn build(
             for k in 0..nz - 1 {
                 for j in 0..ny - 1 {
                     for i in 0..nx - 1 {
-                        let hex = vec![
-                            id(i, j, k),
-                            id(i + 1, j, k),
-                            id(i + 1, j + 1, k),
-                            id(i, j + 1, k),
-                            id(i, j, k + 1),
-                            id(i + 1, j, k + 1),
-                            id(i + 1, j + 1, k + 1),
-                            id(i, j + 1, k + 1),
-                        ];
+                        let hex = hexahedron_corners(i, j, k).map(|(a, b, c)| id(a, b, c)).to_vec();
                         cells.push((12u8, hex));
                     }
                 }

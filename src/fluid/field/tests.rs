@@ -1,5 +1,5 @@
 use super::structured::{Axis, Structured};
-use super::unstructured::Unstructured;
+use super::unstructured::{Unstructured, hexahedron_corners};
 use super::*;
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
@@ -56,16 +56,7 @@ fn cube_mesh(n: usize, jitter: f64, tets: bool) -> (Vec<DVec3>, Vec<(u8, Vec<u64
     for k in 0..n {
         for j in 0..n {
             for i in 0..n {
-                let v = [
-                    id(i, j, k),
-                    id(i + 1, j, k),
-                    id(i + 1, j + 1, k),
-                    id(i, j + 1, k),
-                    id(i, j, k + 1),
-                    id(i + 1, j, k + 1),
-                    id(i + 1, j + 1, k + 1),
-                    id(i, j + 1, k + 1),
-                ];
+                let v = hexahedron_corners(i, j, k).map(|(a, b, c)| id(a, b, c));
                 if tets {
                     // Kuhn's six tetrahedra along the diagonal 0–6.
                     for path in [[1, 2], [3, 2], [1, 5], [4, 5], [3, 7], [4, 7]] {

@@ -38,6 +38,22 @@ pub fn cell_faces(vtk_type: u8) -> Option<&'static [&'static [usize]]> {
     })
 }
 
+/// The eight corners of cell `(i, j, k)` of a block of points, as point indices `(i, j, k)`, in
+/// VTK's hexahedron order (the bottom face counter-clockwise seen from above, then the top
+/// face): how a structured grid's cell is written as an unstructured one.
+pub fn hexahedron_corners(i: usize, j: usize, k: usize) -> [(usize, usize, usize); 8] {
+    [
+        (i, j, k),
+        (i + 1, j, k),
+        (i + 1, j + 1, k),
+        (i, j + 1, k),
+        (i, j, k + 1),
+        (i + 1, j, k + 1),
+        (i + 1, j + 1, k + 1),
+        (i, j + 1, k + 1),
+    ]
+}
+
 /// VTK's voxel vertex order as a hexahedron's.
 pub const VOXEL_AS_HEX: [usize; 8] = [0, 1, 3, 2, 4, 5, 7, 6];
 
