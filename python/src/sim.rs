@@ -154,6 +154,7 @@ fn create_sinks(
     scene_path: &Path,
     source: &str,
     max_spheres: usize,
+    rotation: bool,
 ) -> PyResult<(Sinks, Vec<PathBuf>)> {
     for f in formats {
         if !matches!(f.as_str(), "mcap" | "csv") {
@@ -172,14 +173,14 @@ fn create_sinks(
                 scene_path: scene_path.display().to_string(),
                 scene_source: source.to_owned(),
             };
-            sinks.push(Box::new(McapSink::create(&file, options)?));
+            sinks.push(Box::new(McapSink::create_for(&file, options, rotation)?));
             written.push(file);
         }
         if formats.iter().any(|f| f == "csv") {
             let (t, e) = (out.join("trajectories.csv"), out.join("events.csv"));
-            sinks.push(Box::new(TrajectoryCsv::create(&t)?));
+            sinks.push(Box::new(TrajectoryCsv::create_for(&t, rotation)?));
             written.push(t);
-            sinks.push(Box::new(EventCsv::create(&e)?));
+            sinks.push(Box::new(EventCsv::create_for(&e, rotation)?));
             written.push(e);
         }
         Ok(())
@@ -288,7 +289,9 @@ impl Simulation {
                         dir.display()
                     ))
                 })?;
-                create_sinks(&formats, dir, &stem, &self.scene_path, &self.source, max_spheres)?
+                // The spin columns as `wetbounce run` decides them, so the files stay the CLI's.
+                let rotation = self.sim.setup.physics.rotation;
+                create_sinks(&formats, dir, &stem, &self.scene_path, &self.source, max_spheres, rotation)?
             }
             None => (Vec::new(), Vec::new()),
         };
