@@ -51,8 +51,8 @@ impl Sink for Collector {
 
 /// A running simulation of a :class:`Scene`: step it with :meth:`advance_to`, or run it whole
 /// with :meth:`run` (which can write the CLI's output files); read the particles' columns as
-/// NumPy arrays (:attr:`positions`, :attr:`velocities`, :attr:`states`, …), the contact
-/// events and the summary as pandas DataFrames.
+/// NumPy arrays (:attr:`positions`, :attr:`velocities`, :attr:`angular_velocities`,
+/// :attr:`states`, …), the contact events and the summary as pandas DataFrames.
 ///
 /// The engine steps with the GIL released: other Python threads run meanwhile, and Ctrl-C
 /// (``KeyboardInterrupt``) stops :meth:`advance_to` or :meth:`run` within about 50 ms of
@@ -401,6 +401,15 @@ impl Simulation {
     #[getter]
     fn velocities<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray2<f64>> {
         Simulation::vectors(py, &self.sim.world.particles.vel)
+    }
+
+    /// Angular velocities ω (rad/s), shape ``(n, 3)``, float64: the ``wx, wy, wz`` columns
+    /// of ``trajectories.csv``. In a scene without rotation (neither the ``rotation`` effect
+    /// nor a friction key) the engine neither computes nor writes the spin: every row is
+    /// exactly ``(0, 0, 0)``, and ``trajectories.csv`` has no such columns.
+    #[getter]
+    fn angular_velocities<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray2<f64>> {
+        Simulation::vectors(py, &self.sim.world.particles.omega)
     }
 
     /// States, shape ``(n,)``, uint8: 0 free, 1 held (at a wall or in a pair), 2 resting —

@@ -141,6 +141,11 @@ class Simulation:
         """Velocities (m/s), shape ``(n, 3)``."""
 
     @property
+    def angular_velocities(self) -> npt.NDArray[np.float64]:
+        """Angular velocities (rad/s), shape ``(n, 3)``: ``trajectories.csv``'s ``wx, wy, wz``;
+        all zero in a scene without rotation (no ``rotation`` effect, no friction key)."""
+
+    @property
     def states(self) -> npt.NDArray[np.uint8]:
         """States, shape ``(n,)``: 0 free, 1 held, 2 resting (``STATE_NAMES``)."""
 
