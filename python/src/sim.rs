@@ -471,10 +471,18 @@ impl Simulation {
     /// ``id``, ``other`` (the wall's name or the other particle's id), ``kind`` (``wall``,
     /// ``particle``, or ``removed`` for a particle taken out as non-finite), ``normal_speed``,
     /// ``st``, ``eps``, ``contact_time`` (NaN for a removal), ``outcome`` (``held``,
-    /// ``bounced``, ``deposited``, ``non_finite``). A pandas DataFrame.
+    /// ``bounced``, ``deposited``, ``non_finite``). In a scene with rotation (when
+    /// ``events.csv`` has them) also ``tangential_speed`` (m/s, the contact point's, relative
+    /// to the wall or the other particle, just before the contact) and ``incidence_angle``
+    /// (rad, of the centre's velocity from the normal: 0 head-on, π/2 grazing), NaN for a
+    /// removal; without rotation the DataFrame has no such columns. A pandas DataFrame.
     fn events<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
+        // `wetbounce run`'s rule for the spin columns of events.csv (src/main.rs).
+        let rotation = self.sim.setup.physics.rotation;
         let rows = &self.collected.rows;
         let n = rows.len();
+        let spin_columns = if rotation { n } else { 0 };
+        let mut spin = [Vec::with_capacity(spin_columns), Vec::with_capacity(spin_columns)];
         let (mut t, mut id) = (Vec::with_capacity(n), Vec::with_capacity(n));
         let (mut other, mut kind, mut outcome) =
             (Vec::with_capacity(n), Vec::with_capacity(n), Vec::with_capacity(n));
@@ -492,6 +500,11 @@ impl Simulation {
                         c.push(v);
                     }
                     outcome.push(e.outcome.name());
+                    if rotation {
+                        for (c, v) in spin.iter_mut().zip([e.tangential_speed, e.incidence_angle]) {
+                            c.push(v);
+                        }
+                    }
                 }
                 Row::Lost(l) => {
                     t.push(l.time);
@@ -502,6 +515,11 @@ impl Simulation {
                         c.push(f64::NAN);
                     }
                     outcome.push("non_finite");
+                    if rotation {
+                        for c in &mut spin {
+                            c.push(f64::NAN);
+                        }
+                    }
                 }
             }
         }
@@ -516,6 +534,11 @@ impl Simulation {
         d.set_item("eps", PyArray1::from_vec(py, eps))?;
         d.set_item("contact_time", PyArray1::from_vec(py, contact_time))?;
         d.set_item("outcome", outcome)?;
+        if rotation {
+            let [tangential_speed, incidence_angle] = spin;
+            d.set_item("tangential_speed", PyArray1::from_vec(py, tangential_speed))?;
+            d.set_item("incidence_angle", PyArray1::from_vec(py, incidence_angle))?;
+        }
         py.import("pandas")?.getattr("DataFrame")?.call1((d,))
     }
 

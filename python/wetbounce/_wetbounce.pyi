@@ -176,7 +176,9 @@ class Simulation:
         ``advance_to`` goes on, so check this after it."""
 
     def events(self) -> pd.DataFrame:
-        """Every contact so far: the columns and rows of ``events.csv``."""
+        """Every contact so far: the columns and rows of ``events.csv``, with
+        ``tangential_speed`` (m/s) and ``incidence_angle`` (rad) in a scene with rotation
+        only (NaN for a removal)."""
 
     def residence_times(self) -> pd.DataFrame:
         """What each outlet took out: ``outlet``, ``id``, ``t``, ``residence_time``."""
