@@ -29,6 +29,7 @@ ROOT = Path(__file__).resolve().parents[2]
 SCENES = ROOT / "scenes"
 TOLUENE = SCENES / "toluene_drop.toml"
 GLASS = SCENES / "glass_bead.toml"
+HEAP = SCENES / "heap.toml"
 
 
 def cli() -> Path | None:
@@ -234,6 +235,75 @@ def test_stepping_to_output_times_gives_the_run_files_rows(tmp_path):
     np.testing.assert_array_equal(mine["t"], events["t"])
     assert list(mine["outcome"]) == ["held", "held", "deposited"]
     assert list(mine["other"]) == list(events["other"].astype(str))
+
+
+def short_heap() -> wb.Scene:
+    """scenes/heap.toml (friction, so rotation) cut to its first 0.3 s: the first beads land
+    at about 0.13 s, the later ones on them, obliquely, and spin."""
+    return wb.Scene.load(HEAP).with_values({"simulation.duration": 0.3, "simulation.output_interval": 0.05})
+
+
+def test_spin_in_a_scene_with_rotation_is_the_cli_files(tmp_path):
+    """angular_velocities at output times are trajectories.csv's wx, wy, wz, bit for bit, and
+    events() has events.csv's tangential_speed and incidence_angle; the files are the CLI's."""
+    scene = short_heap()
+    scene.run(tmp_path / "py", formats=["csv"])
+    exe = cli()
+    if exe is not None:
+        # The CLI has no --duration: it runs the cut scene's text.
+        path = tmp_path / "heap_short.toml"
+        path.write_text(scene.source)
+        subprocess.run(
+            [exe, "run", path, "--out", tmp_path / "cli", "--formats", "csv", "--quiet"],
+            check=True,
+            capture_output=True,
+        )
+        for name in ("trajectories.csv", "events.csv"):
+            assert (tmp_path / "py" / name).read_bytes() == (tmp_path / "cli" / name).read_bytes(), name
+    files = tmp_path / ("cli" if exe is not None else "py")
+
+    trajectories = pd.read_csv(files / "trajectories.csv")
+    assert list(trajectories.columns)[-4:] == ["state", "wx", "wy", "wz"]
+    sim = scene.simulation()
+    frames = 0
+    for t, rows in trajectories.groupby("t", sort=True):
+        sim.advance_to(t)
+        assert sim.time == t
+        omega = sim.angular_velocities
+        assert omega.shape == (len(sim), 3) and omega.dtype == np.float64
+        rows = rows.set_index("id").loc[sim.ids]
+        np.testing.assert_array_equal(omega, rows[["wx", "wy", "wz"]].to_numpy())
+        np.testing.assert_array_equal(sim.velocities, rows[["vx", "vy", "vz"]].to_numpy())
+        frames += 1
+    assert frames == 6  # 0.05 s to 0.3 s: at t = 0 no bead is in yet, so no rows
+    spinning = np.linalg.norm(sim.angular_velocities, axis=1) > 0
+    assert spinning.sum() >= 10, spinning.sum()
+
+    events = pd.read_csv(files / "events.csv", keep_default_na=False)
+    mine = sim.events()
+    assert list(mine.columns) == list(events.columns)
+    assert list(mine.columns)[-2:] == ["tangential_speed", "incidence_angle"]
+    assert len(mine) == len(events) > 0
+    for column in ("t", "normal_speed", "tangential_speed", "incidence_angle"):
+        np.testing.assert_array_equal(mine[column], events[column].astype(float), err_msg=column)
+    assert list(mine["other"]) == list(events["other"].astype(str))
+    # Oblique impacts on the pile: a tangential speed, an angle from the normal.
+    assert (mine["tangential_speed"] > 0).any() and (mine["incidence_angle"] > 0).any()
+    assert mine["incidence_angle"].between(0.0, math.pi).all()
+
+
+def test_no_spin_columns_without_rotation():
+    sim = wb.Scene.load(GLASS).simulation()
+    sim.advance_to(0.3)  # the bead has hit the floor (at about 0.2 s)
+    events = sim.events()
+    assert len(events) > 0
+    assert list(events.columns) == [
+        "t", "id", "other", "kind", "normal_speed", "st", "eps", "contact_time", "outcome",
+    ]
+    # The engine never computes the spin there: exactly zero.
+    assert sim.angular_velocities.shape == (len(sim), 3)
+    assert sim.angular_velocities.dtype == np.float64
+    assert not sim.angular_velocities.any()
 
 
 # --- whole runs ---------------------------------------------------------------------------
