@@ -10,7 +10,9 @@ use wetbounce::Scene;
 /// residual is ~1e-5 m/s. Since the wall rows are warm-started (README, "Speed with rotation
 /// and friction"), the 300-bead version of this bed has 99 % of its beads below 2e-7 m/s but
 /// its fastest bead still between 1e-6 and a few 1e-3 m/s, from pair contacts that break and
-/// re-form; this 2000-bead bed was not re-measured. Run with
+/// re-form, driven apart by the friction sweeps, which crawl instead of converging (README,
+/// "Why": a mode that decays by 1e-5 per sweep; more sweeps made it worse), so the fix is a
+/// different solver, not more sweeps. This 2000-bead bed was not re-measured. Run with
 /// `cargo test --release --test friction_bed -- --ignored` (tens of minutes on a loaded machine).
 #[test]
 #[ignore = "criterion of issue 16 not met yet: the bed ends at ~1e-3 m/s, not 1e-6 (see doc)"]

@@ -6,7 +6,9 @@
 //! the median, 99th percentile and largest speed (m/s), the largest `|ω| a` (m/s), the number of
 //! lasting contacts between particles and of particles resting on a wall, and, summed over the
 //! steps since the last line, the contact events (impacts) with a wall and between particles,
-//! the lasting pair contacts made and broken, and the particles that left their wall; last, the
+//! the lasting pair contacts made and broken, and the particles that left their wall; the
+//! fastest particle (`id:state:pairs:z:v`: its id, state, number of lasting pair contacts,
+//! height in mm and velocity), to tell a rattler from a bead its contacts push; last, the
 //! heap's angle of repose (`wetbounce::heap::angle_of_repose`). A bed at rest makes and breaks
 //! nothing.
 
@@ -77,8 +79,26 @@ fn main() {
         };
         let angle = wetbounce::heap::angle_of_repose(&p.pos, &p.diameter);
         let on_wall = (0..p.len()).filter(|&i| p.state[i] == State::Resting).count();
+        // The fastest particle, to tell a rattler (no contact) from a bead its contacts let go.
+        let fastest =
+            (0..p.len()).max_by(|&a, &b| p.vel[a].length_squared().total_cmp(&p.vel[b].length_squared()));
+        let fastest = fastest.map_or("-".to_string(), |i| {
+            let contacts =
+                sim.world.lasting.iter().filter(|c| c.a as usize == i || c.b as usize == i).count();
+            let v = p.vel[i];
+            format!(
+                "id{}:{}:pairs{}:z{:.2}mm:v({:.1e},{:.1e},{:.1e})",
+                p.id[i],
+                p.state[i].name(),
+                contacts,
+                p.pos[i].z * 1e3,
+                v.x,
+                v.y,
+                v.z
+            )
+        });
         println!(
-            "t={t:.2} wall_s={:.1} n={} median={m:.2e} p99={q:.2e} max={top:.2e} max_spin_a={spin:.2e} lasting={} on_wall={on_wall} events_wall={wall_events} events_pair={pair_events} made={made} broken={broken} left_wall={left_wall} angle_deg={}",
+            "t={t:.2} wall_s={:.1} n={} median={m:.2e} p99={q:.2e} max={top:.2e} max_spin_a={spin:.2e} lasting={} on_wall={on_wall} events_wall={wall_events} events_pair={pair_events} made={made} broken={broken} left_wall={left_wall} fastest={fastest} angle_deg={}",
             start.elapsed().as_secs_f64(),
             p.len(),
             sim.world.lasting.len(),
