@@ -14,6 +14,8 @@
 //!   particle–particle contacts), to show a scene pays only for what it names;
 //! - `pairs5`: two bead densities at 5 % volume fraction, settling at different speeds, so the
 //!   neighbour list and pair contacts are exercised;
+//! - `pairs5-friction`: `pairs5` with friction on both kinds (μ = 0.3, β0 = 0.35, μ_r = 0.01,
+//!   the glass of `scenes/settling_bed_friction.toml`), hence rotation: what friction costs;
 //! - `fines`: `dilute` with beads of 100 µm (lattice at 3 d), N of them, and the exponential
 //!   integrator (their drag relaxation time, 14 µs, is below the step);
 //! - `polydisperse`: `fines` plus one bead of 10 mm (size ratio 100) 10 mm beside the lattice,
@@ -135,7 +137,8 @@ fn write_pipe_field(extent: f64, height: f64, cells: usize, unstructured: bool) 
 fn scene(case: &str, n: usize) -> Scene {
     let in_pipe = matches!(case, "poiseuille" | "field" | "field-vtu" | "field-vtu-bvh");
     let paper = case.starts_with("paper") || in_pipe;
-    let pairs5 = case == "pairs5";
+    let pairs5 = case.starts_with("pairs5");
+    let friction = case == "pairs5-friction";
     let polydisperse = case.starts_with("polydisperse");
     let large = if case == "polydisperse-4mm" { LARGE_4MM } else { LARGE };
     let d = if polydisperse || case == "fines" { FINE } else { D };
@@ -194,6 +197,9 @@ fn scene(case: &str, n: usize) -> Scene {
         text += &format!(
             "[[kinds]]\nname = \"{name}\"\ntype = \"solid\"\ndensity = {density}\nyoungs_modulus = 6e9\npoisson_ratio = 0.3\nrestitution_max = 0.9\n"
         );
+        if friction {
+            text += "friction = 0.3\ntangential_restitution = 0.35\nrolling_friction = 0.01\n";
+        }
     }
     text += &format!(
         "[[walls]]\nname = \"box\"\ntype = \"box\"\nmin = [0.0, 0.0, 0.0]\nmax = [{}, {}, {}]\ninside = true\n",
@@ -257,6 +263,7 @@ fn main() {
         "paper-no-drag",
         "paper-no-pairs",
         "pairs5",
+        "pairs5-friction",
         "fines",
         "polydisperse",
         "polydisperse-4mm",

@@ -52,13 +52,29 @@ impl<M> Kernel<'_, M> {
     /// — the exact solution of `I dω/dt = −8π μ a³ (ω − Ω)` for `Ω` held at its value at the
     /// start of the stretch. Unchanged without rotation or without a viscous fluid.
     #[inline]
-    pub fn spin_after(&self, (k, d): (usize, f64), x: DVec3, omega: DVec3, h: f64) -> DVec3 {
-        let Some(spin) = &self.spin else { return omega };
-        let rate = spin.kind_rate[k] / (d * d);
-        if rate == 0.0 || h <= 0.0 {
-            return omega;
+    pub fn spin_after(&self, kd: (usize, f64), x: DVec3, omega: DVec3, h: f64) -> DVec3 {
+        match self.spin_decay(kd, h) {
+            Some(decay) => self.spin_relaxed(x, omega, decay),
+            None => omega,
         }
+    }
+
+    /// The factor `e^{−h/τ_ω}` of [`Kernel::spin_after`] for kind `k` and diameter `d` (m) over
+    /// `h` (s); `None` when the spin does not change (no rotation, no viscous fluid, `h ≤ 0`).
+    /// Apart from the position, so that a pass over many particles of one kind and size
+    /// computes the exponential once.
+    #[inline]
+    pub fn spin_decay(&self, (k, d): (usize, f64), h: f64) -> Option<f64> {
+        let spin = self.spin.as_ref()?;
+        let rate = spin.kind_rate[k] / (d * d);
+        (rate != 0.0 && h > 0.0).then(|| (-rate * h).exp())
+    }
+
+    /// `Ω + (ω − Ω) decay` at `x` ([`Kernel::spin_after`] with its factor already computed).
+    #[inline]
+    pub fn spin_relaxed(&self, x: DVec3, omega: DVec3, decay: f64) -> DVec3 {
+        let Some(spin) = &self.spin else { return omega };
         let target = spin.flow.half_vorticity(x, spin.time);
-        target + (omega - target) * (-rate * h).exp()
+        target + (omega - target) * decay
     }
 }
