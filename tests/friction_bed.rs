@@ -11,7 +11,7 @@ use wetbounce::Scene;
 /// and friction"), the 300-bead version of this bed has 99 % of its beads below 2e-7 m/s but
 /// its fastest bead still between 1e-6 and a few 1e-3 m/s, from pair contacts that break and
 /// re-form, driven apart by the friction sweeps, which crawl instead of converging (README,
-/// "Why": a mode that decays by 1e-5 per sweep; more sweeps made it worse), so the fix is a
+/// "Why": a mode that decays by 5e-5 of itself per sweep; more sweeps made it worse), so the fix is a
 /// different solver, not more sweeps. This 2000-bead bed, re-measured at 89e3595 with
 /// `target/release/rest scenes/settling_bed_friction.toml 0.5`: at 3 s median 1.7e-9 m/s, 99th
 /// percentile 1.5e-4, largest 5.0e-4. Run with
