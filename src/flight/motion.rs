@@ -19,6 +19,8 @@ pub trait Motion: Sync {
     /// Whether the flow's lookups can walk from a particle's remembered tetrahedron
     /// ([`FlowField::HINTED`]).
     const HINTED: bool;
+    /// The integrator's [`Scheme::DISPLACEMENT_SHARE`].
+    const DISPLACEMENT_SHARE: f64;
     /// The field of one particle, its flow's lookups walking from tetrahedron `tet`
     /// ([`FlowField::hinted`]).
     fn hinted(field: Self::Field<glam::DVec3>, tet: u32) -> Self::Field<glam::DVec3>;
@@ -49,6 +51,7 @@ impl<S: Scheme, D: DragLaw, F: FlowField> Motion for Mover<S, D, F> {
     const LANE_GROUPS: bool = D::LANE_GROUPS;
     const ACCELERATES: bool = F::ACCELERATES;
     const HINTED: bool = F::HINTED;
+    const DISPLACEMENT_SHARE: f64 = S::DISPLACEMENT_SHARE;
 
     #[inline(always)]
     fn hinted(field: Self::Field<glam::DVec3>, tet: u32) -> Self::Field<glam::DVec3> {

@@ -12,6 +12,8 @@ impl Scheme for Euler {
     const ORDER: u32 = 1;
     /// `|1 − λh| < 1`.
     const STABILITY_INTERVAL: f64 = 2.0;
+    /// `x' = x + h v`: the step's own acceleration does not move the particle.
+    const DISPLACEMENT_SHARE: f64 = 0.0;
 
     #[inline(always)]
     fn advance<V: Vector, F: ForceField<V>>(self, f: &F, x: V, v: V, h: f64) -> (V, V) {

@@ -17,6 +17,8 @@ impl Scheme for Rk2 {
     const ORDER: u32 = 2;
     /// `|1 − z + z²/2| < 1` for `0 < z = λh < 2`.
     const STABILITY_INTERVAL: f64 = 2.0;
+    /// `x' = x + h (v + v + h a)/2`.
+    const DISPLACEMENT_SHARE: f64 = 0.5;
 
     #[inline(always)]
     fn advance<V: Vector, F: ForceField<V>>(self, f: &F, x: V, v: V, h: f64) -> (V, V) {
