@@ -7,7 +7,8 @@ OUT_DIR is a run's folder written with `--formats vtk,csv`; TIME (s, default: th
 must be one of its frame times. Checks, at that time and at the first frame:
 - ParaView's time steps are the CSV's frame times;
 - the point count is the CSV's row count;
-- each particle's position and velocity as ParaView reads them are the CSV's, bit for bit;
+- each particle's position and velocity (and spin, in a scene with rotation) as ParaView reads
+  them are the CSV's, bit for bit;
 - the walls' file has one surface per wall of summary.json.
 The picture: the particles as spheres at their true size (Glyph: sphere, scale array
 `radius`), coloured by state, and the walls semi-transparent. Exits non-zero on a failed check.
@@ -63,12 +64,17 @@ def check_frame(reader, time, rows):
         fail("t = %r: ParaView reads %d points, the CSV has %d rows" % (time, n, len(rows)))
     names = [data.GetPointData().GetArrayName(i) for i in range(data.GetPointData().GetNumberOfArrays())]
     expected = ["id", "kind", "diameter", "radius", "velocity", "speed", "state"]
+    # A scene with rotation (friction) also writes each particle's spin, in both files.
+    spin = n > 0 and "wx" in next(iter(rows.values()))
+    if spin:
+        expected.append("angular_velocity")
     if names != expected:
         fail("point arrays %r, expected %r" % (names, expected))
     if n == 0:
         return None
     ids = vtk_to_numpy(data.GetPointData().GetArray("id"))
     velocity = vtk_to_numpy(data.GetPointData().GetArray("velocity"))
+    omega = vtk_to_numpy(data.GetPointData().GetArray("angular_velocity")) if spin else None
     for i in range(n):
         row = rows[int(ids[i])]
         x = data.GetPoint(i)
@@ -77,6 +83,11 @@ def check_frame(reader, time, rows):
         want_v = (float(row["vx"]), float(row["vy"]), float(row["vz"]))
         if tuple(x) != want or v != want_v:
             fail("t = %r, id %d: ParaView reads x = %r, v = %r; the CSV has %r, %r" % (time, ids[i], x, v, want, want_v))
+        if spin:
+            w = tuple(float(c) for c in omega[i])
+            want_w = (float(row["wx"]), float(row["wy"]), float(row["wz"]))
+            if w != want_w:
+                fail("t = %r, id %d: ParaView reads ω = %r; the CSV has %r" % (time, ids[i], w, want_w))
     first = int(ids[0])
     return first, data.GetPoint(0)
 
