@@ -48,6 +48,28 @@ fn one_and_two_threads_write_identical_files_for_a_pour_with_pair_contacts() {
     assert!(events.contains(",particle,"), "the pour must have particle contacts");
 }
 
+/// 300 glass beads with friction and rolling resistance poured into a box, cut to 0.5 s (the bed
+/// forming): spin, friction rows of the lasting contacts warm-started from the last step, and
+/// positions that follow the solved velocities (physics.md §9.1).
+#[test]
+fn one_and_two_threads_write_identical_files_for_a_pour_with_friction() {
+    let text =
+        std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/tests/scenes/bed_friction_300.toml"))
+            .unwrap()
+            .replace("duration = 2.0", "duration = 0.5");
+    assert!(text.contains("duration = 0.5"));
+    let scenes = tempfile::tempdir().unwrap();
+    let scene = scenes.path().join("bed_friction.toml");
+    std::fs::write(&scene, text).unwrap();
+    let scene = scene.to_str().unwrap();
+    let dirs: Vec<_> = (0..2).map(|_| tempfile::tempdir().unwrap()).collect();
+    let one = run(scene, "1", dirs[0].path());
+    let two = run(scene, "2", dirs[1].path());
+    assert!(one == two, "1 and 2 threads differ");
+    let header = std::fs::read_to_string(dirs[0].path().join("trajectories.csv")).unwrap();
+    assert!(header.lines().next().unwrap().contains(",wx,wy,wz"), "the spin is written");
+}
+
 /// The column scene (seeded injector, log-normal sizes, outlet, baffle-like plate, holds)
 /// shortened to 1.5 s: about 750 drops injected, the first reaching the plate.
 #[test]
