@@ -196,6 +196,34 @@ mod tests {
         (f, exact)
     }
 
+    /// `DISPLACEMENT_SHARE` is what each scheme does: from a velocity `v`, under a constant
+    /// acceleration (no drag), the step moves a particle by `h v + θ h (v(h) − v)`.
+    fn displacement_share_of<S: Scheme>(s: S) -> f64 {
+        let f = ParticleForce::<NoDrag, Quiescent, DVec3> {
+            accel: DVec3::new(0.0, 0.0, -5.9),
+            stokes_rate: 0.0,
+            re_per_speed: 0.0,
+            fluid_gain: 0.0,
+            flow: Quiescent,
+            law: PhantomData,
+        };
+        let (x, v, h) = (DVec3::new(0.1, 0.2, 0.3), DVec3::new(0.01, 0.0, -0.02), 2e-4);
+        let (x1, v1) = s.advance(&f, x, v, h);
+        (x1 - x - v * h).z / (h * (v1 - v).z)
+    }
+
+    #[test]
+    fn each_scheme_moves_a_particle_by_its_displacement_share_of_the_velocity_change() {
+        for (name, theta, want) in [
+            ("euler", displacement_share_of(Euler), Euler::DISPLACEMENT_SHARE),
+            ("rk2", displacement_share_of(Rk2), Rk2::DISPLACEMENT_SHARE),
+            ("rk4", displacement_share_of(Rk4), Rk4::DISPLACEMENT_SHARE),
+            ("exponential", displacement_share_of(Exponential), Exponential::DISPLACEMENT_SHARE),
+        ] {
+            assert!((theta - want).abs() < 1e-9, "{name}: {theta}, declared {want}");
+        }
+    }
+
     fn error_at_end<S: Scheme>(s: S, steps: usize) -> f64 {
         let (f, exact) = stokes_case();
         let t_end = 0.2;
