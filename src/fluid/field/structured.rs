@@ -83,7 +83,9 @@ impl Axis {
     /// [`Axis::cell`] for [`Structured::blend`]: the same cell and fraction, bit for bit.
     #[inline(always)]
     fn cell_fast(&self, x: f64) -> (usize, f64) {
-        if self.nodes.len() == 1 {
+        // `< 2` rather than `== 1` (an axis has a node at least): the cell is then below n − 1
+        // for the compiler too, and reading its two nodes needs no bounds check.
+        if self.nodes.len() < 2 {
             return (0, 0.0);
         }
         let i = self.index(x);
@@ -97,7 +99,8 @@ impl Axis {
     #[inline(always)]
     fn cells(&self, x: F64x4) -> ([usize; LANES], F64x4) {
         let n = self.nodes.len();
-        if n == 1 {
+        // As in `cell_fast`, `< 2` so that the cells below need no bounds check.
+        if n < 2 {
             return ([0; LANES], F64x4([0.0; LANES]));
         }
         let i = match self.uniform {
@@ -105,17 +108,20 @@ impl Axis {
             // form has vector instructions for each step. `s` is kept in [0, n − 2] (NaN to 0)
             // before it is truncated, which gives the same cell as truncating first (n − 2 is
             // a whole number), and the truncation is read off the mantissa of s + 2⁵² (which
-            // rounds to the nearest whole number: one less where that is above s).
+            // rounds to the nearest whole number: one less where that is above s). The last
+            // `min` changes nothing but tells the compiler that the cell's nodes are there.
             Some((x0, inv_h)) => {
                 const TWO_52: f64 = 4_503_599_627_370_496.0;
-                let top = (n - 2) as f64;
+                // Through `i64` (exact: a length is below 2⁶³): one instruction, where the
+                // conversion of an unsigned integer is several.
+                let top = (n - 2) as i64 as f64;
                 let s = (x - F64x4([x0; LANES])) * inv_h;
                 each(s.0, |s| {
                     let s = if s > 0.0 { s } else { 0.0 };
                     let s = if s < top { s } else { top };
                     let r = s + TWO_52;
                     let k = r.to_bits() - TWO_52.to_bits();
-                    (if r - TWO_52 > s { k - 1 } else { k }) as usize
+                    ((if r - TWO_52 > s { k - 1 } else { k }) as usize).min(n - 2)
                 })
             }
             None => each(x.0, |x| self.index(x)),
