@@ -128,6 +128,10 @@ fn by_flow<S: Scheme, D: DragLaw, W: WithMotion>(scheme: S, step: StepFlow<'_>, 
         Flow::Field(f) if accelerating => {
             w.run(&Mover::<S, D, _> { scheme, flow: f.0.accelerating(time), law: PhantomData })
         }
-        Flow::Field(f) => w.run(&Mover::<S, D, _> { scheme, flow: f.0.at(time), law: PhantomData }),
+        // A structured grid's lookup is compiled apart from an unstructured grid's walk.
+        Flow::Field(f) => match f.0.structured_at(time) {
+            Some(flow) => w.run(&Mover::<S, D, _> { scheme, flow, law: PhantomData }),
+            None => w.run(&Mover::<S, D, _> { scheme, flow: f.0.at(time), law: PhantomData }),
+        },
     }
 }

@@ -62,6 +62,19 @@ pub trait Vector: Lanes + Mul<<Self as Vector>::Real, Output = Self> {
     fn length_squared(self) -> Self::Real;
     /// `f` of every lane.
     fn map_points(self, f: impl Fn(DVec3) -> DVec3) -> Self;
+    /// `f` of a single point or of a lane group, by [`PointMap::one`] or [`PointMap::four`].
+    fn map_by(self, f: &impl PointMap) -> Self;
+}
+
+/// A function of points with a lane form of its own (a structured field's lookup). A trait
+/// rather than two closures, so that its methods can be always inlined: the lane form then
+/// compiles with the instruction set of the loop it ends up in (a closure that large is called
+/// out of line, with the baseline's).
+pub trait PointMap {
+    /// The value at one point.
+    fn one(&self, x: DVec3) -> DVec3;
+    /// The values at a lane group of points, lane for lane [`PointMap::one`]'s.
+    fn four(&self, x: DVec3x4) -> DVec3x4;
 }
 
 /// Four `f64` lanes.
@@ -238,6 +251,10 @@ impl Vector for DVec3 {
     fn map_points(self, f: impl Fn(DVec3) -> DVec3) -> Self {
         f(self)
     }
+    #[inline(always)]
+    fn map_by(self, f: &impl PointMap) -> Self {
+        f.one(self)
+    }
 }
 
 impl Vector for DVec3x4 {
@@ -255,6 +272,10 @@ impl Vector for DVec3x4 {
     #[inline(always)]
     fn map_points(self, f: impl Fn(DVec3) -> DVec3) -> Self {
         DVec3x4::from_array(each(self.to_array(), f))
+    }
+    #[inline(always)]
+    fn map_by(self, f: &impl PointMap) -> Self {
+        f.four(self)
     }
 }
 

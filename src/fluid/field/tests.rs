@@ -1,6 +1,7 @@
 use super::structured::{Axis, Structured};
 use super::unstructured::{Unstructured, hexahedron_corners};
 use super::*;
+use crate::numeric::lanes::LANES;
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 
@@ -239,6 +240,86 @@ fn time_series_is_linear_in_time_and_periodic_when_asked() {
     assert_eq!(u(&periodic, 4.5), 10.0); // halfway from the last (t = 4) back to the first (t = 5)
     assert_eq!(u(&periodic, 6.0), 10.0); // t = 6 is t = 2
     assert_eq!(u(&periodic, 0.0), 20.0); // t = 0 is t = 4, the last snapshot
+}
+
+/// The structured grids' lookup of the hot loop ([`StructuredAt`], which [`Field::velocity`]
+/// uses) against the sum over the stencil ([`FieldAt`]), bit for bit: image data and a
+/// rectilinear grid of cell data, an axis of one node (also as an axisymmetric table), points
+/// inside, on node planes and outside, each outside policy, one snapshot and two blended in time.
+#[test]
+fn structured_lookup_is_the_stencils_sum_bit_for_bit() {
+    let mut rng = ChaCha8Rng::seed_from_u64(14);
+    let even = |n: usize, lo: f64, hi: f64| -> Vec<f64> {
+        (0..n).map(|i| lo + (hi - lo) * i as f64 / (n - 1) as f64).collect()
+    };
+    let mut uneven: Vec<f64> = (0..9).map(|i| (i as f64 / 8.0).powf(1.5)).collect();
+    uneven[3] += 0.01;
+    let grids = [
+        [
+            Axis::new(even(7, -0.3, 0.4), -0.3, 0.4),
+            Axis::new(even(5, 0.0, 1.0), 0.0, 1.0),
+            Axis::new(even(6, 1.0, 2.5), 1.0, 2.5),
+        ],
+        // Cell data: the extent half a cell beyond the outer nodes.
+        [
+            Axis::new(uneven.clone(), -0.05, 1.1),
+            Axis::new(even(4, 0.0, 1.0), -0.1, 1.1),
+            Axis::new(uneven, 0.0, 1.0),
+        ],
+        [
+            Axis::new(even(5, 0.0, 1.0), 0.0, 1.0),
+            Axis::new(vec![0.5], 0.5, 0.5),
+            Axis::new(even(3, 0.0, 1.0), 0.0, 1.0),
+        ],
+    ];
+    let bits = |u: DVec3| u.to_array().map(f64::to_bits);
+    for axes in grids {
+        let g = Structured { axes };
+        let nodes: usize = g.dims().iter().product();
+        let lo = DVec3::new(g.axes[0].lo, g.axes[1].lo, g.axes[2].lo);
+        let hi = DVec3::new(g.axes[0].hi, g.axes[1].hi, g.axes[2].hi);
+        let mut snap = |time: f64| Snapshot {
+            time,
+            values: (0..nodes).map(|_| DVec3::new(rng.random(), rng.random(), rng.random()) - 0.5).collect(),
+        };
+        let series = vec![snap(0.0), snap(1.0)];
+        let frames = if g.dims()[1] == 1 {
+            vec![
+                None,
+                Some(Axisymmetric { point: DVec3::new(0.1, -0.2, 0.3), axis: DVec3::new(0.6, 0.0, 0.8) }),
+            ]
+        } else {
+            vec![None]
+        };
+        for outside in [Outside::Error, Outside::Zero, Outside::Nearest] {
+            for &frame in &frames {
+                let grid = Grid::Structured(g.clone());
+                let field = Field::new(grid, series.clone(), None, outside, frame, FieldInfo::default());
+                for _ in 0..500 {
+                    // Up to a quarter of the box's size beyond it on every side; some points on
+                    // a node plane.
+                    let xs: [DVec3; LANES] = std::array::from_fn(|_| {
+                        let mut x = lo
+                            + (hi - lo) * (1.5 * DVec3::new(rng.random(), rng.random(), rng.random()) - 0.25);
+                        if rng.random_bool(0.2) {
+                            x.x = g.axes[0].nodes[rng.random_range(0..g.axes[0].nodes.len())];
+                        }
+                        x
+                    });
+                    for t in [0.0, 0.3, 1.0] {
+                        // The lane group's lookup too.
+                        let lanes = field.structured_at(t).expect("a structured grid");
+                        let lanes = lanes.velocity_of(DVec3x4::from_array(xs)).to_array();
+                        for (x, lane) in xs.into_iter().zip(lanes) {
+                            let stencil = field.at(t).velocity(x);
+                            assert_eq!(bits(field.velocity(x, t)), bits(stencil), "{x} at t = {t}");
+                            assert_eq!(bits(lane), bits(stencil), "{x} at t = {t}, in a lane group");
+                        }
+                    }
+                }
+            }
+        }
+    }
 }
 
 mod walk {
