@@ -35,38 +35,12 @@ impl Axis {
         Axis { nodes, uniform, lo, hi }
     }
 
-    /// The cell `i` (nodes `i` and `i + 1`) and the fraction `t` along it for coordinate `x`,
-    /// already clamped to `[lo, hi]`. In the half cell between the outer node and the extent
-    /// (cell data), `t` leaves `[0, 1]`: the outer cell's line is extended rather than cut
-    /// off flat, which keeps the interpolation second order up to the edge.
-    #[inline]
-    fn cell(&self, x: f64) -> (usize, f64) {
-        let n = self.nodes.len();
-        if n == 1 {
-            return (0, 0.0);
-        }
-        let i = match self.uniform {
-            Some((x0, inv_h)) => {
-                // Truncation is the floor for s ≥ 0 (and a call to `floor` where the target
-                // has no rounding instruction).
-                let s = (x - x0) * inv_h;
-                if s < 0.0 { 0 } else { (s as usize).min(n - 2) }
-            }
-            None => self.nodes.partition_point(|&c| c <= x).saturating_sub(1).min(n - 2),
-        };
-        let (a, b) = (self.nodes[i], self.nodes[i + 1]);
-        (i, (x - a) / (b - a))
-    }
-
-    /// [`Axis::cell`]'s cell on an axis of two nodes or more, for [`Structured::blend`]: the
-    /// same cell in fewer instructions, with a lane form. (`cell` itself stays as it was: it is
-    /// compiled into the stencil's lookup, which the unstructured grids' kernels share.)
+    /// [`Axis::cell`]'s cell index on an axis of two nodes or more.
     #[inline(always)]
     fn index(&self, x: f64) -> usize {
         let n = self.nodes.len();
         match self.uniform {
-            // `max` sends s < 0 and NaN to cell 0 as `cell`'s test for s < 0 does; the
-            // saturating conversion to `i32` is a few instructions (one four lanes wide) where
+            // `max` sends s < 0 and NaN to cell 0; the saturating conversion to `i32` is a few instructions (one four lanes wide) where
             // the one to `usize` is a dozen, and the cell is the same (no axis has 2³¹ nodes).
             Some((x0, inv_h)) => (((x - x0) * inv_h).max(0.0) as i32 as usize).min(n - 2),
             None => self.nodes.partition_point(|&c| c <= x).saturating_sub(1).min(n - 2),
@@ -80,9 +54,12 @@ impl Axis {
         (pair[0], pair[1])
     }
 
-    /// [`Axis::cell`] for [`Structured::blend`]: the same cell and fraction, bit for bit.
+    /// The cell `i` (nodes `i` and `i + 1`) and the fraction `t` along it for coordinate `x`,
+    /// already clamped to `[lo, hi]`. In the half cell between the outer node and the extent
+    /// (cell data), `t` leaves `[0, 1]`: the outer cell's line is extended rather than cut
+    /// off flat, which keeps the interpolation second order up to the edge.
     #[inline(always)]
-    fn cell_fast(&self, x: f64) -> (usize, f64) {
+    fn cell(&self, x: f64) -> (usize, f64) {
         // `< 2` rather than `== 1` (an axis has a node at least): the cell is then below n − 1
         // for the compiler too, and reading its two nodes needs no bounds check.
         if self.nodes.len() < 2 {
@@ -93,13 +70,13 @@ impl Axis {
         (i, (x - a) / (b - a))
     }
 
-    /// [`Axis::cell_fast`] of four coordinates, each lane with the same operations as one: the
+    /// [`Axis::cell`] of four coordinates, each lane with the same operations as one: the
     /// axis' own choices (one node, even spacing) made once for the four, the arithmetic four
     /// lanes wide.
     #[inline(always)]
     fn cells(&self, x: F64x4) -> ([usize; LANES], F64x4) {
         let n = self.nodes.len();
-        // As in `cell_fast`, `< 2` so that the cells below need no bounds check.
+        // As in `cell`, `< 2` so that the cells below need no bounds check.
         if n < 2 {
             return ([0; LANES], F64x4([0.0; LANES]));
         }
@@ -252,9 +229,9 @@ impl Structured {
     pub fn blend(&self, p: DVec3, row: impl Fn(usize, usize) -> [DVec3; 2]) -> DVec3 {
         let [ax, ay, az] = &self.axes;
         let (nx, ny, nz) = (ax.nodes.len(), ay.nodes.len(), az.nodes.len());
-        let (i, tx) = ax.cell_fast(ax.clamp(p.x));
-        let (j, ty) = ay.cell_fast(ay.clamp(p.y));
-        let (k, tz) = az.cell_fast(az.clamp(p.z));
+        let (i, tx) = ax.cell(ax.clamp(p.x));
+        let (j, ty) = ay.cell(ay.clamp(p.y));
+        let (k, tz) = az.cell(az.clamp(p.z));
         // An axis of one node contributes its single node twice, each with weight 1 − 0 or 0.
         let dx = usize::from(nx > 1);
         let dy = if ny > 1 { nx } else { 0 };
