@@ -108,8 +108,8 @@ impl Axis {
         (i, (x - a) / (b - a))
     }
 
-    /// `x` moved into the field's extent along this axis (an axis of one node has none): what
-    /// [`Structured::clamp`] does along it.
+    /// `x` moved into the field's extent along this axis (an axis of one node has none): one
+    /// axis of [`Structured::clamp`].
     #[inline(always)]
     fn clamp(&self, x: f64) -> f64 {
         // `f64::clamp`'s comparisons (a NaN stays NaN) without its check that lo ≤ hi, which
@@ -170,8 +170,8 @@ impl Structured {
     /// `p` moved to the nearest point of the field.
     #[inline]
     pub fn clamp(&self, p: DVec3) -> DVec3 {
-        let c = |a: &Axis, x: f64| if a.nodes.len() == 1 { x } else { x.clamp(a.lo, a.hi) };
-        DVec3::new(c(&self.axes[0], p.x), c(&self.axes[1], p.y), c(&self.axes[2], p.z))
+        let [ax, ay, az] = &self.axes;
+        DVec3::new(ax.clamp(p.x), ay.clamp(p.y), az.clamp(p.z))
     }
 
     /// The trilinear stencil at `p`, which must lie in the field ([`Structured::clamp`]).
