@@ -191,26 +191,19 @@ fn run_scene(args: &RunArgs) -> Result<(String, ExitCode), String> {
     Ok((text, exit_status(&report, scene.duration, &signals, &errors, sim.record.left_field.as_ref())))
 }
 
-/// Removes the files an earlier run of this scene wrote into `out` in formats this run does
-/// not write, and says so on standard error: left beside the new outputs, an old events.csv or
-/// MCAP read as this run's. Only the names `run` itself writes are touched, after this run's
-/// files are created (a run that cannot start removes nothing); a file that cannot be removed
-/// is a warning, not a failed run.
+/// Removes an earlier run's outputs that this run does not write (`output::stale`), and says so
+/// on standard error: left beside the new outputs, an old events.csv or MCAP would be read as
+/// this run's. A file that cannot be removed is a warning, not a failed run.
 fn remove_stale_outputs(out: &Path, stem: &str, written: &[PathBuf]) {
-    let ours =
-        [format!("{stem}.mcap"), "trajectories.csv".into(), "events.csv".into(), format!("{stem}.rrd")];
-    let stale = ours.iter().map(|name| out.join(name)).filter(|p| !written.contains(p) && p.is_file());
-    let mut removed = Vec::new();
-    for p in stale {
-        match std::fs::remove_file(&p) {
-            Ok(()) => removed.push(p.display().to_string()),
-            Err(e) => eprintln!("warning: {}: cannot remove this output of an earlier run: {e}", p.display()),
-        }
+    let r = wetbounce::output::stale::remove(out, stem, written);
+    for failed in &r.failed {
+        eprintln!("warning: {failed}");
     }
-    if !removed.is_empty() {
+    if !r.removed.is_empty() {
+        let names: Vec<String> = r.removed.iter().map(|p| p.display().to_string()).collect();
         eprintln!(
             "note: removed {}: an earlier run's outputs in formats this run does not write",
-            removed.join(", ")
+            names.join(", ")
         );
     }
 }

@@ -105,9 +105,11 @@ pub fn run(
         }
     })();
     let mut errors: Vec<OutputError> = Vec::new();
+    // An output error that stops the run before its end interrupts it as a signal does
+    // (summary.json said `"interrupted": false` for such a run: issue 25, finding 13).
     let interrupted = result.unwrap_or_else(|e| {
         errors.push(e);
-        false
+        sim.world.time < duration
     });
     // Every sink is finished, whatever happened to the others. A file that already failed may
     // fail again on its last flush: it is named once.
@@ -174,11 +176,19 @@ pub const STOP_SIGNALS: &[StopSignal] = &[
     StopSignal { number: signal_hook::consts::SIGHUP, name: "SIGHUP" },
 ];
 
+/// How long after the first stop signal a second one still counts as the same stop. GNU
+/// `timeout` sends SIGTERM to the run and then to its whole process group, `kill -TERM -PGID`
+/// and batch schedulers may reach the run twice as well: the copies come within microseconds and
+/// must not turn the graceful stop into an exit with cut files (issue 25, finding 10). A person
+/// who insists presses Ctrl-C again after a pause.
+pub const REPEAT_SIGNAL_GRACE: Duration = Duration::from_secs(2);
+
 /// The process's handlers for [`STOP_SIGNALS`]: the first such signal sets [`Self::flag`] (the
 /// `stop` of [`run`]: the run finishes its step, writes a last frame and closes every file) and
-/// records which signal it was; a second one, of any of them, exits at once with 128 + its
-/// number, without closing the files — which then still hold every frame up to the last one,
-/// since the sinks flush at every frame.
+/// records which signal it was; a second one, of any of them, coming at least
+/// [`REPEAT_SIGNAL_GRACE`] after the first, exits at once with 128 + its number, without closing
+/// the files — which then still hold every frame up to the last one, since the sinks flush at
+/// every frame. Copies of the first signal that come sooner are part of the same stop.
 #[derive(Debug)]
 pub struct StopSignals {
     flag: Arc<AtomicBool>,
@@ -191,14 +201,30 @@ impl StopSignals {
     pub fn install() -> std::io::Result<Self> {
         let flag = Arc::new(AtomicBool::new(false));
         let received = Arc::new(AtomicUsize::new(0));
-        for s in STOP_SIGNALS {
-            // The order matters: the exit is armed by the flag, so on the first signal it finds
-            // the flag unset and does nothing; the flag is set last, after the signal's number,
-            // so that whoever sees the flag sees which signal set it.
-            signal_hook::flag::register_conditional_shutdown(s.number, 128 + s.number, flag.clone())?;
-            signal_hook::flag::register_usize(s.number, received.clone(), s.number as usize)?;
-            signal_hook::flag::register(s.number, flag.clone())?;
-        }
+        let numbers: Vec<i32> = STOP_SIGNALS.iter().map(|s| s.number).collect();
+        // signal-hook's iterator: the handler only wakes this thread, which may then read the
+        // clock and decide, with no code of ours inside the signal handler (and no `unsafe`).
+        let mut incoming = signal_hook::iterator::Signals::new(&numbers)?;
+        let (stop, which) = (flag.clone(), received.clone());
+        std::thread::Builder::new().name("stop-signals".into()).spawn(move || {
+            let mut first: Option<Instant> = None;
+            for number in incoming.forever() {
+                match first {
+                    None => {
+                        // The signal's number first, then the flag: whoever sees the flag sees
+                        // which signal set it.
+                        which.store(number as usize, Ordering::SeqCst);
+                        stop.store(true, Ordering::SeqCst);
+                        first = Some(Instant::now());
+                    }
+                    Some(at) if at.elapsed() >= REPEAT_SIGNAL_GRACE => {
+                        signal_hook::low_level::exit(128 + number)
+                    }
+                    // The same stop delivered twice (`timeout`, a process group): already stopping.
+                    Some(_) => {}
+                }
+            }
+        })?;
         Ok(StopSignals { flag, received })
     }
 

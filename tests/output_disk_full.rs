@@ -115,6 +115,10 @@ fn a_file_that_cannot_grow_mid_run_stops_the_run_naming_it_and_the_rest_is_kept(
         let summary = read_summary(&out_dir);
         let t_stop = summary["time_s"].as_f64().unwrap();
         assert!(t_stop > 0.0 && t_stop < 0.2, "{formats}: stopped at {t_stop}");
+        // Stopped before its end by the error: interrupted, as after a signal, with no signal
+        // (issue 25, finding 13: it said false).
+        assert_eq!(summary["interrupted"], true, "{summary}");
+        assert_eq!(summary["signal"], serde_json::Value::Null, "{summary}");
         let listed = summary["output_errors"].as_array().unwrap();
         assert_eq!(listed.len(), 1, "{summary}");
         assert!(listed[0].as_str().unwrap().contains(failing), "{summary}");

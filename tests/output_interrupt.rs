@@ -165,6 +165,54 @@ fn sigterm_sighup_and_sigint_at_random_moments_leave_whole_files_and_exit_128_pl
     }
 }
 
+/// GNU `timeout` sends SIGTERM to the run and then, microseconds later, to its whole process
+/// group, so the run gets it twice; `kill -TERM` sent twice in a row does the same. Each of
+/// these must give the graceful stop (whole files, summary.json, exit 143), not the "second
+/// signal exits at once" of a user who insists (issue 25, finding 10: 10 of 46 runs under
+/// `timeout` lost their summary and their MCAP's footer).
+#[test]
+fn gnu_timeout_and_a_doubled_sigterm_stop_the_run_gracefully_every_time() {
+    let dir = tempfile::tempdir().unwrap();
+    let scene = long_pour(dir.path());
+    let mut rng = ChaCha8Rng::seed_from_u64(25);
+    for case in 0..8 {
+        let out = dir.path().join(format!("timeout{case}"));
+        // Seeded limits from half a second (the first frames) to two seconds into the run.
+        let limit = format!("{:.3}", rng.random_range(0.5..2.0));
+        // --preserve-status: timeout exits with the run's own status rather than 124.
+        let child = Command::new("timeout")
+            .args(["--preserve-status", "-s", "TERM", &limit])
+            .arg(env!("CARGO_BIN_EXE_wetbounce"))
+            .arg("run")
+            .arg(&scene)
+            .args(["--formats", "mcap,csv", "--quiet", "--threads", "1", "--out"])
+            .arg(&out)
+            .stdout(Stdio::piped())
+            .stderr(Stdio::piped())
+            .spawn()
+            .unwrap();
+        let output = wait_bounded(child, Duration::from_secs(120));
+        let stderr = String::from_utf8_lossy(&output.stderr);
+        assert_eq!(output.status.code(), Some(143), "timeout {limit}: {} {stderr}", output.status);
+        assert!(stderr.contains("by SIGTERM"), "timeout {limit}: {stderr}");
+        check_stopped_cleanly(&out, "SIGTERM");
+    }
+    for case in 0..4 {
+        let out = dir.path().join(format!("twice{case}"));
+        let mut child = start(&scene, &out);
+        wait_until(&mut child, Duration::from_secs(120), "the MCAP was created", || {
+            out.join("pour.mcap").exists()
+        });
+        std::thread::sleep(Duration::from_millis(rng.random_range(0..500)));
+        send(&child, "TERM");
+        send(&child, "TERM");
+        let output = wait_bounded(child, Duration::from_secs(120));
+        let stderr = String::from_utf8_lossy(&output.stderr);
+        assert_eq!(output.status.code(), Some(143), "kill -TERM twice: {} {stderr}", output.status);
+        check_stopped_cleanly(&out, "SIGTERM");
+    }
+}
+
 #[test]
 fn sigkill_at_a_random_moment_loses_at_most_the_last_frame_and_recover_reads_the_mcap_back() {
     let dir = tempfile::tempdir().unwrap();
@@ -371,4 +419,76 @@ fn recover_refuses_to_write_over_its_input_under_another_name() {
     assert_eq!(run.status.code(), Some(1), "{stderr}");
     assert!(stderr.contains("is the input"), "{stderr}");
     assert_eq!(std::fs::read(&file).unwrap(), before, "the input was changed");
+}
+
+/// Issue 25, finding 13: a 140-byte MCAP whose chunk length field said 2^63 made `recover`
+/// allocate 2 GB (an abort under a 1 GB limit), and a failed recovery left a 0-byte or partial
+/// output. Every length field of the first chunk is set to lying values, in whole files and in
+/// files cut short: under a 256 MiB address-space limit, `recover` keeps what is whole before the
+/// lie or refuses naming the input, never aborts, and leaves no output when it refuses.
+#[test]
+fn recover_of_an_mcap_whose_lengths_lie_allocates_nothing_of_that_size_and_leaves_no_partial_file() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = wetbounce()
+        .args(["run", "scenes/toluene_drop.toml", "--quiet", "--output-interval", "0.1", "--out"])
+        .arg(dir.path())
+        .output()
+        .unwrap();
+    assert!(out.status.success());
+    let bytes = std::fs::read(dir.path().join("toluene_drop.mcap")).unwrap();
+    let summary = mcap::Summary::read(&bytes).unwrap().unwrap();
+    let chunk = summary.chunk_indexes[0].chunk_start_offset as usize;
+    // A chunk record: opcode, record length (u64), start and end times (u64), uncompressed
+    // size (u64), CRC (u32), compression (u32 length + text), records length (u64), records.
+    let record_length_at = chunk + 1;
+    let uncompressed_at = chunk + 1 + 8 + 16;
+    let compression_len =
+        u32::from_le_bytes(bytes[uncompressed_at + 12..uncompressed_at + 16].try_into().unwrap());
+    let records_length_at = uncompressed_at + 16 + compression_len as usize;
+    let lies = [1u64 << 63, u64::MAX - 1, 1 << 31, 3 << 30, 1 << 40];
+    let mut k = 0;
+    for at in [record_length_at, uncompressed_at, records_length_at] {
+        for lie in lies {
+            for keep in [chunk + 60, bytes.len()] {
+                let mut b = bytes[..keep.min(bytes.len())].to_vec();
+                b[at..at + 8].copy_from_slice(&lie.to_le_bytes());
+                let input = dir.path().join(format!("lie{k}.mcap"));
+                let output = dir.path().join(format!("lie{k}.out.mcap"));
+                k += 1;
+                std::fs::write(&input, &b).unwrap();
+                let run = Command::new("bash")
+                    .arg("-c")
+                    .arg("ulimit -v 262144; exec \"$0\" recover \"$1\" \"$2\"")
+                    .arg(env!("CARGO_BIN_EXE_wetbounce"))
+                    .arg(&input)
+                    .arg(&output)
+                    .output()
+                    .unwrap();
+                let stderr = String::from_utf8_lossy(&run.stderr);
+                let what = format!("length at byte {at} = {lie}, file of {} bytes", b.len());
+                assert!(
+                    !stderr.contains("panicked") && !stderr.contains("memory allocation"),
+                    "{what}: {stderr}"
+                );
+                match run.status.code() {
+                    Some(0) => {
+                        // What it kept is a closed MCAP the standard reader opens.
+                        read_closed_mcap(&output);
+                    }
+                    Some(1) => {
+                        assert!(stderr.contains(&input.display().to_string()), "{what}: {stderr}");
+                        assert!(!output.exists(), "{what}: a failed recovery left {}", output.display());
+                    }
+                    other => panic!("{what}: exit {other:?}: {stderr}"),
+                }
+            }
+        }
+    }
+    // Not an MCAP at all: refused, and no output.
+    let input = dir.path().join("text.mcap");
+    std::fs::write(&input, "not an mcap").unwrap();
+    let output = dir.path().join("text.out.mcap");
+    let run = wetbounce().arg("recover").arg(&input).arg(&output).output().unwrap();
+    assert_eq!(run.status.code(), Some(1));
+    assert!(!output.exists(), "a failed recovery left {}", output.display());
 }

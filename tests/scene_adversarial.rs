@@ -338,6 +338,51 @@ fn huge_values_are_printed_in_short_scientific_form() {
     assert!(message.len() < 300, "{} characters: {message}", message.len());
 }
 
+/// A tank without the floor plane, plus `extra`.
+fn tank(extra: &str) -> String {
+    base(&format!(
+        "[[walls]]\nname = \"tank\"\ntype = \"box\"\nmin = [-0.05, -0.05, 0.0]\nmax = [0.05, 0.05, 0.1]\ninside = true\n{extra}"
+    ))
+    .replace("[[walls]]\nname = \"floor\"", "[[walls]]\nname = \"floor0\"")
+}
+
+const FILL: &str = "[[random_fill]]\nkind = \"glass\"\ndiameter = 1e-3\nmin = [-0.04, -0.04, 0.01]\nmax = [0.04, 0.04, 0.09]\ncount = 5\nseed = 1\n";
+
+/// Issue 25, finding 14: a 10 m ball in a 0.1 m tank plus a random fill blamed
+/// `random_fill[0].min` with a false hint ("one fits at [0, 0, 0.11]", inside the ball).
+#[test]
+fn ball_through_its_tank_before_a_random_fill_is_blamed_on_its_own_position() {
+    let e = refused(&tank(&format!(
+        "[[particles]]\nkind = \"glass\"\ndiameter = 10.0\nposition = [0.0, 0.0, 0.05]\n{FILL}"
+    )));
+    assert_error(&e, "particles[0].position", &["starts inside wall", "d = 10 m"]);
+    // The same with a lattice of large beads through the tank's side.
+    let e = refused(&tank(&format!(
+        "[[lattice]]\nkind = \"glass\"\ndiameter = 0.03\nmin = [0.03, -0.01, 0.0]\nmax = [0.09, 0.01, 0.02]\nspacing = 0.03\n{FILL}"
+    )));
+    assert_error(&e, "lattice[0]", &["starts inside wall \"tank\""]);
+    assert!(!e.to_string().contains("fits at"), "{e}");
+}
+
+/// The variant: a ball clear of the walls that covers the whole fill region. The fill is what
+/// cannot be placed, and the message names the ball, never a point inside it.
+#[test]
+fn random_fill_covered_by_a_ball_placed_before_names_the_ball_not_a_false_free_point() {
+    let e = refused(&tank(&format!(
+        "[[particles]]\nkind = \"glass\"\ndiameter = 0.098\nposition = [0.0, 0.0, 0.05]\n\
+         [[random_fill]]\nkind = \"glass\"\ndiameter = 1e-3\nmin = [-0.01, -0.01, 0.04]\nmax = [0.01, 0.01, 0.06]\ncount = 5\nseed = 1\n"
+    )));
+    assert_error(&e, "random_fill[0].min", &["particles[0]", "d = 0.098"]);
+    assert!(!e.to_string().contains("fits at"), "{e}");
+    // The ball's centre outside the region, the region inside the ball: every draw fails.
+    let e = refused(&tank(&format!(
+        "[[particles]]\nkind = \"glass\"\ndiameter = 0.098\nposition = [0.0, 0.0, 0.05]\n\
+         [[random_fill]]\nkind = \"glass\"\ndiameter = 1e-3\nmin = [0.01, 0.01, 0.05]\nmax = [0.02, 0.02, 0.06]\ncount = 5\nseed = 1\n"
+    )));
+    assert_error(&e, "random_fill[0].min", &["particles[0]", "d = 0.098"]);
+    assert!(!e.to_string().contains("fits at"), "{e}");
+}
+
 #[test]
 fn random_fill_seed_of_2_to_the_63_is_refused_as_the_docs_say() {
     let fill = |seed: &str| {
@@ -376,6 +421,61 @@ fn rerun_with_fewer_formats_removes_the_stale_outputs_of_the_earlier_run() {
     assert!(!out.join("events.csv").exists(), "events.csv of the first run left behind");
     assert!(!out.join("trajectories.csv").exists(), "trajectories.csv of the first run left behind");
     assert!(stderr.contains("events.csv"), "the removal is not reported: {stderr}");
+}
+
+/// Issue 25, finding 13: a rerun into the same folder left the earlier run's VTK frames (1,001
+/// files beside a `.pvd` that lists 11) and, with `--formats mcap`, the old `.pvd` and walls.
+#[test]
+fn rerun_into_the_same_folder_leaves_no_vtk_frame_the_new_pvd_does_not_list() {
+    let dir = tempfile::tempdir().unwrap();
+    let scene = dir.path().join("bead.toml");
+    let with_interval = |interval: &str| {
+        base("[[particles]]\nkind = \"glass\"\ndiameter = 2e-3\nposition = [0.0, 0.0, 0.01]\n")
+            .replace("output_interval = 1e-3", &format!("output_interval = {interval}"))
+    };
+    let out = dir.path().join("out");
+    let run = |formats: &str| {
+        let o = wetbounce()
+            .arg("run")
+            .arg(&scene)
+            .args(["--quiet", "--formats", formats, "--out"])
+            .arg(&out)
+            .output()
+            .unwrap();
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+        String::from_utf8_lossy(&o.stderr).into_owned()
+    };
+    let frames = || -> Vec<String> {
+        let mut names: Vec<String> = std::fs::read_dir(out.join("bead_vtk"))
+            .map(|d| d.map(|e| e.unwrap().file_name().to_string_lossy().into_owned()).collect())
+            .unwrap_or_default();
+        names.sort();
+        names
+    };
+    let listed = || -> Vec<String> {
+        let pvd = std::fs::read_to_string(out.join("bead.pvd")).unwrap();
+        let mut names: Vec<String> = pvd
+            .split("file=\"")
+            .skip(1)
+            .map(|rest| rest.split('"').next().unwrap().trim_start_matches("bead_vtk/").to_string())
+            .collect();
+        names.sort();
+        names
+    };
+    // Many frames, then few: every frame in the folder is one the new .pvd lists.
+    std::fs::write(&scene, with_interval("1e-3")).unwrap();
+    run("vtk");
+    let many = frames().len();
+    std::fs::write(&scene, with_interval("5e-3")).unwrap();
+    run("vtk");
+    assert!(frames().len() < many, "{} frames before, {} after", many, frames().len());
+    assert_eq!(frames(), listed());
+    // Then without VTK: the .pvd, the walls and the frames go, a user's file in the folder stays.
+    std::fs::write(out.join("bead_vtk/mine.txt"), "notes").unwrap();
+    let stderr = run("mcap");
+    assert!(!out.join("bead.pvd").exists() && !out.join("bead_walls.vtp").exists(), "{stderr}");
+    assert_eq!(frames(), vec!["mine.txt".to_string()]);
+    assert!(stderr.contains("bead.pvd"), "the removal is not reported: {stderr}");
 }
 
 #[test]

@@ -19,6 +19,7 @@ pub mod mcap;
 mod progress;
 #[cfg(feature = "rerun")]
 pub mod rerun;
+pub mod stale;
 mod statistics;
 mod summary;
 pub mod vtk;

@@ -98,6 +98,13 @@ impl VtkSink {
         let frames_name = format!("{stem}_vtk");
         let frames_dir = dir.join(&frames_name);
         std::fs::create_dir_all(&frames_dir).map_err(|e| OutputError::create(&frames_dir, e))?;
+        // An earlier run's frames past this run's last would stay beside a `.pvd` that does not
+        // list them (issue 25, finding 13): clear them before the first frame.
+        let mut stale = super::stale::Removed::default();
+        super::stale::remove_frames(&frames_dir, &mut stale);
+        if let Some(first) = stale.failed.first() {
+            return Err(OutputError::new(&frames_dir, first));
+        }
         let pvd_path = dir.join(format!("{stem}.pvd"));
         let mut pvd = OutputFile::create(&pvd_path, 1 << 16)?;
         let head = "<?xml version=\"1.0\"?>\n\

@@ -2,7 +2,7 @@
 
 use super::accuracy::auto_step;
 use super::error::check::{self, forbid, only, required};
-use super::error::fmt::{num, shorten_long_numbers, vec3};
+use super::error::fmt::{num, shorten_long_numbers};
 use super::error::{Invalid, SceneError};
 use super::ranges::{
     self, DENSITY, FLUID_DENSITY, GRAVITY, LENGTH, ROUGHNESS, SPEED, SURFACE_TENSION, TIME, VISCOSITY,
@@ -19,8 +19,7 @@ use crate::fluid::{Flow, Fluid, Poiseuille};
 use crate::integrate::IntegratorKind;
 use crate::particles::{FrictionMaterial, Material, ParticleKind, Particles};
 use crate::pipeline::Setup;
-use crate::walls::{Surface, Wall};
-use glam::DVec3;
+use crate::walls::Wall;
 use std::path::Path;
 
 /// The largest Stokes number at which L06 eq. 4 diverges: `0.85^10`.
@@ -171,7 +170,7 @@ pub(super) fn build(
 
     let mut particles = Particles::default();
     let origins = fill::add_particles(&file, &kinds, &walls, &mut particles)?;
-    check_clear_of_walls(&origins, &particles, &walls)?;
+    fill::check_clear_of_walls(&origins, &particles, &walls)?;
     overlap::check_no_overlap(&origins, &particles)?;
     let injectors = flux::build_injectors(&file.injectors, &kinds, &walls, duration)?;
     if physics_has_lubrication {
@@ -605,29 +604,6 @@ fn check_roughness_below_radius(
                     num(kinds[k].roughness)
                 ),
             ));
-        }
-    }
-    Ok(())
-}
-
-fn check_clear_of_walls(origins: &fill::Origins, p: &Particles, walls: &[Wall]) -> Result<(), Invalid> {
-    for i in 0..p.len() {
-        let r = 0.5 * p.diameter[i];
-        for wall in walls {
-            let g = wall.shape.gap(p.pos[i], r);
-            if g.gap < -1e-9 * r {
-                let x: DVec3 = p.pos[i];
-                return Err(Invalid::new(
-                    fill::origin_key(origins, i),
-                    format!(
-                        "particle at {} (d = {} m) starts inside wall \"{}\": it overlaps by {:.3e} m",
-                        vec3(x.to_array()),
-                        num(p.diameter[i]),
-                        wall.name,
-                        -g.gap
-                    ),
-                ));
-            }
         }
     }
     Ok(())

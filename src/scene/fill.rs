@@ -84,6 +84,12 @@ pub(super) fn add_particles(
             }
         }
     }
+    // The particles set one by one and the lattices are checked against the walls before any
+    // random fill places around them: a 10 m ball through a 0.1 m tank left no room for a fill,
+    // which was blamed instead of the ball (issue 25, finding 14).
+    if !file.random_fill.is_empty() {
+        check_clear_of_walls(&origins, p, walls)?;
+    }
     for (i, s) in file.random_fill.iter().enumerate() {
         let k = |f: &str| format!("random_fill[{i}].{f}");
         let kind = kind_index(k("kind"), &s.kind)?;
@@ -97,7 +103,7 @@ pub(super) fn add_particles(
                 format!("must leave the scene at most {MAX_PARTICLES} particles, got {}", s.count),
             ));
         }
-        check_fill_volume(&k("count"), p, (lo, hi), d, s.count)?;
+        check_fill_volume((&k("count"), &k("min")), (p, &origins), (lo, hi), d, s.count)?;
         let r = 0.5 * d;
         let (lo, hi) = (lo + r, hi - r);
         if !lo.cmplt(hi).all() {
@@ -121,32 +127,104 @@ pub(super) fn add_particles(
             // Not one placed: say whether, and where, a particle of this size fits at all.
             let room = probe(&box_points(lo, hi, walls), r, walls);
             let (field, what) = match room {
-                Room::TooLarge { .. } => {
-                    ("diameter", format!("a particle of d = {} m fits nowhere in the region clear of the walls", num(d)))
-                }
+                Room::TooLarge { .. } => (
+                    "diameter",
+                    format!(
+                        "a particle of d = {} m fits nowhere in the region clear of the walls: {}",
+                        num(d),
+                        room.explain()
+                    ),
+                ),
                 Room::Blocked { .. } => (
                     "min",
-                    "no point of the region (of the centres, [min + d/2, max - d/2]) is clear of the walls".to_string(),
+                    format!(
+                        "no point of the region (of the centres, [min + d/2, max - d/2]) is clear of the walls: {}",
+                        room.explain()
+                    ),
                 ),
-                Room::Fits { .. } => (
-                    "min",
-                    "no particle placed in 1000 draws: the region has room for one only in a small part of it; \
-                     shrink it to where the particles fit"
-                        .to_string(),
-                ),
+                Room::Fits { .. } => {
+                    // Nothing placed (`placed` is 0): the walls leave room; the particles placed before this fill may take it.
+                    // A point is offered only when it is clear of both (the hint named a point
+                    // inside a ball placed before).
+                    let before = 0..p.len();
+                    let points = box_points(lo, hi, walls);
+                    let clear_of_walls =
+                        |x: &DVec3| walls.iter().all(|w| w.shape.gap(*x, r).gap >= 0.0);
+                    let in_the_way = |x: DVec3| {
+                        before.clone().find(|&j| (p.pos[j] - x).length() < 0.5 * p.diameter[j] + r)
+                    };
+                    match points.iter().filter(|x| clear_of_walls(x)).find(|&&x| in_the_way(x).is_none()) {
+                        Some(&at) => (
+                            "min",
+                            format!(
+                                "no particle placed in 1000 draws: the region has room for one only in a small \
+                                 part of it; shrink it to where the particles fit: one fits at {}",
+                                vec3(at.to_array())
+                            ),
+                        ),
+                        None => {
+                            let at = points.iter().copied().find(clear_of_walls).unwrap_or(points[0]);
+                            let blame = in_the_way(at).map_or_else(
+                                || "the particles placed before it".to_string(),
+                                |j| {
+                                    format!(
+                                        "{} (d = {} m at {})",
+                                        describe(&origins, j),
+                                        num(p.diameter[j]),
+                                        vec3(p.pos[j].to_array())
+                                    )
+                                },
+                            );
+                            (
+                                "min",
+                                format!(
+                                    "the part of the region clear of the walls is taken by {blame}: move the \
+                                     region or that particle"
+                                ),
+                            )
+                        }
+                    }
+                }
             };
-            Invalid::new(k(field), format!("{what}: {}", room.explain()))
+            return Invalid::new(k(field), what);
         })?;
     }
     Ok(origins)
 }
 
+/// Refuses a particle placed by hand or by a lattice that starts inside a wall, naming the key
+/// that placed it.
+pub(super) fn check_clear_of_walls(origins: &Origins, p: &Particles, walls: &[Wall]) -> Result<(), Invalid> {
+    for i in 0..p.len() {
+        let r = 0.5 * p.diameter[i];
+        for wall in walls {
+            let g = wall.shape.gap(p.pos[i], r);
+            if g.gap < -1e-9 * r {
+                let x: DVec3 = p.pos[i];
+                return Err(Invalid::new(
+                    origin_key(origins, i),
+                    format!(
+                        "particle at {} (d = {} m) starts inside wall \"{}\": it overlaps by {:.3e} m",
+                        vec3(x.to_array()),
+                        num(p.diameter[i]),
+                        wall.name,
+                        -g.gap
+                    ),
+                ));
+            }
+        }
+    }
+    Ok(())
+}
+
 /// Refuses a random fill of `count` particles of diameter `d` that, with the particles already
 /// centred in the region `[lo, hi]`, would take more than [`MAX_RANDOM_FILL_FRACTION`] of its
 /// volume: impossible for random placement, and formerly minutes of futile draws.
+/// When the particles placed before fill the region by themselves, the region is blamed
+/// (`region_key`) with the largest of them named, not the count.
 fn check_fill_volume(
-    key: &str,
-    p: &Particles,
+    (key, region_key): (&str, &str),
+    (p, origins): (&Particles, &Origins),
     (lo, hi): (DVec3, DVec3),
     d: f64,
     count: u32,
@@ -154,13 +232,28 @@ fn check_fill_volume(
     let sphere = |d: f64| std::f64::consts::FRAC_PI_6 * d * d * d;
     let region = (hi - lo).x * (hi - lo).y * (hi - lo).z;
     let asked = count as f64 * sphere(d) / region;
-    let taken: f64 = (0..p.len())
-        .filter(|&i| p.pos[i].cmpge(lo).all() && p.pos[i].cmple(hi).all())
-        .map(|i| sphere(p.diameter[i]))
-        .sum::<f64>()
-        / region;
+    let inside: Vec<usize> =
+        (0..p.len()).filter(|&i| p.pos[i].cmpge(lo).all() && p.pos[i].cmple(hi).all()).collect();
+    // A particle larger than the region takes at most all of it (a 0.1 m ball around a 2 cm
+    // region was said to take 6160 % of it).
+    let taken: f64 = inside.iter().map(|&i| sphere(p.diameter[i]).min(region)).sum::<f64>() / region;
     if asked + taken <= MAX_RANDOM_FILL_FRACTION {
         return Ok(());
+    }
+    if taken > MAX_RANDOM_FILL_FRACTION
+        && let Some(&largest) = inside.iter().max_by(|&&a, &&b| p.diameter[a].total_cmp(&p.diameter[b]))
+    {
+        return Err(Invalid::new(
+            region_key,
+            format!(
+                "the particles placed before this fill already take {:.0} % of its region (the largest, {}, \
+                 d = {} m at {}): move the region or those particles",
+                100.0 * taken.min(1.0),
+                describe(origins, largest),
+                num(p.diameter[largest]),
+                vec3(p.pos[largest].to_array())
+            ),
+        ));
     }
     let earlier = if taken > 0.0 {
         format!(" (and the particles placed before it take {:.0} % more)", 100.0 * taken)

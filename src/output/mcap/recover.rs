@@ -61,7 +61,27 @@ pub enum RecoverError {
 /// Reads `input` as far as it is whole and writes what it holds to `output` as a closed MCAP
 /// (zstd chunks, with summary and footer). The messages keep their channels, log times and
 /// sequence numbers, in the order of the input.
+///
+/// A recovery that fails leaves no output file (a 0-byte or partial file would pass for a
+/// recovered one: issue 25, finding 13).
 pub fn recover(input: &Path, output: &Path) -> Result<Recovered, RecoverError> {
+    let result = recover_into(input, output);
+    if let Err(RecoverError::Write { .. } | RecoverError::NotMcap { .. } | RecoverError::Read { .. }) =
+        &result
+        && !same_file(input, output)
+    {
+        let _ = std::fs::remove_file(output);
+    }
+    result
+}
+
+/// How many times its compressed size a chunk may claim to inflate to. zstd on a frame's
+/// numbers gains 2–10×; a length field that says more is a damaged or hostile file, and is
+/// refused before its buffer is allocated (a 140-byte file whose chunk claimed 2^63 bytes made
+/// `recover` allocate 2 GB).
+const MAX_INFLATION: u64 = 64;
+
+fn recover_into(input: &Path, output: &Path) -> Result<Recovered, RecoverError> {
     let read_err = |source| RecoverError::Read { path: input.to_path_buf(), source };
     let mut file = std::fs::File::open(input).map_err(read_err)?;
     // Creating the output truncates it: were it the input (by another name, a link), the file
@@ -82,10 +102,15 @@ pub fn recover(input: &Path, output: &Path) -> Result<Recovered, RecoverError> {
             .with_prevalidate_chunk_crcs(true)
             // A length field that cannot be (the placeholder of the chunk being written when the
             // run was killed is 2^64 - 1) is an error, not an allocation of that size. A record
-            // is at most the file's length, a chunk's decompressed content at most 4 GiB here (a
+            // is at most the file's length (checked at each read request below), a chunk's
+            // decompressed content at most MAX_INFLATION times the file and at most 4 GiB (a
             // frame of 10^7 particles is 0.5 GB).
-            .with_record_length_limit(usize::try_from(length.max(1 << 32)).unwrap_or(usize::MAX)),
+            .with_record_length_limit(
+                usize::try_from(length.saturating_mul(MAX_INFLATION).clamp(1 << 20, 1 << 32))
+                    .unwrap_or(usize::MAX),
+            ),
     );
+    let mut consumed: u64 = 0;
 
     let out_file = OutputFile::create(output, 1 << 20)
         .map_err(|e| RecoverError::Write { path: output.to_path_buf(), message: e.message })?;
@@ -106,7 +131,23 @@ pub fn recover(input: &Path, output: &Path) -> Result<Recovered, RecoverError> {
     while let Some(event) = reader.next_event() {
         let (opcode, data) = match event {
             Ok(LinearReadEvent::ReadRequest(need)) => {
+                // More than the file still holds: a record whose length field lies (or a cut
+                // file). Stop here, before the reader allocates a buffer of that size.
+                let left = length.saturating_sub(consumed);
+                if need as u64 > left {
+                    if first_record {
+                        return Err(RecoverError::NotMcap {
+                            path: input.to_path_buf(),
+                            reason: format!("it ends after {length} bytes"),
+                        });
+                    }
+                    recovered.cut = Some(format!(
+                        "a record needs {need} more bytes at byte {consumed}, the file has {left} left"
+                    ));
+                    break;
+                }
                 let n = file.read(reader.insert(need)).map_err(read_err)?;
+                consumed += n as u64;
                 reader.notify_read(n);
                 continue;
             }
