@@ -368,17 +368,17 @@ fn ball_through_its_tank_before_a_random_fill_is_blamed_on_its_own_position() {
 /// cannot be placed, and the message names the ball, never a point inside it.
 #[test]
 fn random_fill_covered_by_a_ball_placed_before_names_the_ball_not_a_false_free_point() {
-    let e = refused(&tank(&format!(
+    let e = refused(&tank(
         "[[particles]]\nkind = \"glass\"\ndiameter = 0.098\nposition = [0.0, 0.0, 0.05]\n\
-         [[random_fill]]\nkind = \"glass\"\ndiameter = 1e-3\nmin = [-0.01, -0.01, 0.04]\nmax = [0.01, 0.01, 0.06]\ncount = 5\nseed = 1\n"
-    )));
+         [[random_fill]]\nkind = \"glass\"\ndiameter = 1e-3\nmin = [-0.01, -0.01, 0.04]\nmax = [0.01, 0.01, 0.06]\ncount = 5\nseed = 1\n",
+    ));
     assert_error(&e, "random_fill[0].min", &["particles[0]", "d = 0.098"]);
     assert!(!e.to_string().contains("fits at"), "{e}");
     // The ball's centre outside the region, the region inside the ball: every draw fails.
-    let e = refused(&tank(&format!(
+    let e = refused(&tank(
         "[[particles]]\nkind = \"glass\"\ndiameter = 0.098\nposition = [0.0, 0.0, 0.05]\n\
-         [[random_fill]]\nkind = \"glass\"\ndiameter = 1e-3\nmin = [0.01, 0.01, 0.05]\nmax = [0.02, 0.02, 0.06]\ncount = 5\nseed = 1\n"
-    )));
+         [[random_fill]]\nkind = \"glass\"\ndiameter = 1e-3\nmin = [0.01, 0.01, 0.05]\nmax = [0.02, 0.02, 0.06]\ncount = 5\nseed = 1\n",
+    ));
     assert_error(&e, "random_fill[0].min", &["particles[0]", "d = 0.098"]);
     assert!(!e.to_string().contains("fits at"), "{e}");
 }

@@ -186,7 +186,7 @@ pub(super) fn add_particles(
                     }
                 }
             };
-            return Invalid::new(k(field), what);
+            Invalid::new(k(field), what)
         })?;
     }
     Ok(origins)
