@@ -3,7 +3,7 @@
 module.
 
     pip install ./python matplotlib
-    python examples/residence_time_sweep.py            # writes docs/figures/contactor_flow_sweep.png
+    python examples/residence_time_sweep.py            # writes out/contactor_flow_sweep.png
 
 Each point is the shipped scene with one key changed, ``fluid.flow.mean_velocity`` (the mean
 of the Poiseuille profile, downwards), run with fewer drops than the shipped scene so that the
@@ -66,7 +66,8 @@ def main() -> None:
     ap.add_argument("--injection", type=float, default=2.0, help="seconds of injection")
     ap.add_argument("--duration", type=float, default=14.0, help="simulated seconds per run")
     ap.add_argument("--jobs", type=int, default=1, help="runs at once, on threads")
-    ap.add_argument("--out", type=Path, default=ROOT / "docs/figures/contactor_flow_sweep.png")
+    ap.add_argument("--out", type=Path, default=Path("out/contactor_flow_sweep.png"),
+                    help="the picture (docs/figures/contactor_flow_sweep.png redraws the README's)")
     args = ap.parse_args()
 
     base = wb.Scene.load(args.scene).with_values({
@@ -76,8 +77,18 @@ def main() -> None:
     })
     # A Poiseuille profile needs a non-zero mean velocity: "still water" is a tiny one.
     velocities = [-max(v, 1e-6) * 1e-3 for v in args.velocities]
+    # One line per finished point, as it finishes: a point takes tens of seconds.
+    start = time.perf_counter()
+    print(f"{len(velocities)} runs of {args.duration} s simulated, {args.jobs} at a time", flush=True)
+
+    def point(v: float) -> dict[str, float]:
+        row = run_point(base, v)
+        print(f"  {row['mean_velocity_mm_s']:5.1f} mm/s: mean residence {row['mean_s']:.2f} s "
+              f"({row['wall_time_s']:.0f} s; {time.perf_counter() - start:.0f} s since the start)", flush=True)
+        return row
+
     with ThreadPoolExecutor(max_workers=args.jobs) as pool:
-        rows = list(pool.map(lambda v: run_point(base, v), velocities))
+        rows = list(pool.map(point, velocities))
     table = pd.DataFrame(rows)
     with pd.option_context("display.width", 160, "display.precision", 3):
         print(table.to_string(index=False))

@@ -1,8 +1,13 @@
 #!/usr/bin/env bash
 # Opens a shipped scene's ParaView output with the real ParaView, checks the numbers it reads
-# back against trajectories.csv, and renders a frame offscreen to docs/figures/paraview_<scene>.png.
+# back against trajectories.csv, and renders a frame offscreen to
+# out/paraview/<scene>/paraview_<scene>.png.
 #
 #     bash tools/paraview/check.sh [SCENE [TIME]]     # default: settling_bed, its last frame
+#
+#     WETBOUNCE_BIN=target/release/wetbounce   use this binary (default: build it in release)
+#     PNG=docs/figures/paraview_<scene>.png    where the picture goes (this one redraws the
+#                                              README's)
 #
 # Needs ParaView's pvbatch with its Python modules, and an X server to render into: Debian's
 # `paraview` is built for X only (pvbatch --force-offscreen-rendering aborts: no EGL or OSMesa),
@@ -15,7 +20,7 @@ cd "$(dirname "$0")/../.."
 scene=${1:-settling_bed}
 time_arg=${2:-}
 out=out/paraview/$scene
-png=docs/figures/paraview_$scene.png
+png=${PNG:-$out/paraview_$scene.png}
 
 missing=()
 command -v pvbatch > /dev/null || missing+=(paraview)
@@ -32,9 +37,17 @@ if [ ${#missing[@]} -gt 0 ]; then
     fi
 fi
 
-cargo build --release --locked --bin wetbounce
+if [ -n "${WETBOUNCE_BIN:-}" ]; then
+    bin=$WETBOUNCE_BIN
+    [ -x "$bin" ] || { echo "WETBOUNCE_BIN=$bin: not an executable file" >&2; exit 1; }
+else
+    cargo build --release --locked --bin wetbounce
+    bin=target/release/wetbounce
+fi
+# The output folder is made anew; the picture (inside it by default) is rendered after the run.
 rm -rf "$out"
-target/release/wetbounce run "scenes/$scene.toml" --formats vtk,csv --quiet --out "$out"
+mkdir -p "$(dirname "$png")"
+"$bin" run "scenes/$scene.toml" --formats vtk,csv --quiet --out "$out"
 du -sh "$out"/"$scene"_vtk "$out/$scene.pvd" "$out/${scene}_walls.vtp" "$out/trajectories.csv" | sed 's/^/size /'
 
 if [ -n "${DISPLAY:-}" ]; then

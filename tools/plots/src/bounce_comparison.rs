@@ -1,5 +1,5 @@
-//! Two comparisons of a bead bouncing on a floor, height against time, into `docs/figures/`
-//! (CSV, PNG and SVG):
+//! Two comparisons of a bead bouncing on a floor, height against time, into `OUT_DIR`
+//! (default `out/figures/`; `docs/figures` redraws the committed ones; CSV, PNG and SVG):
 //!
 //!     cargo run --release -p wetbounce-tools --bin bounce_comparison [-- OUT_DIR] [--font FILE.ttf]
 //!
@@ -156,5 +156,5 @@ fn run(out: &Path) -> Result<(), String> {
 }
 
 fn main() -> ExitCode {
-    plotting::main_writing_into("docs/figures", run)
+    plotting::main_writing_into("out/figures", run)
 }

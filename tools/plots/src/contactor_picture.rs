@@ -5,7 +5,7 @@
 //!
 //!     cargo run --release --manifest-path tools/plots/Cargo.toml --bin contactor_picture -- [OUT_DIR] [--font FILE.ttf]
 //!
-//! writes `OUT_DIR/contactor_field.png` (default `docs/figures`) and prints the residence-time
+//! writes `OUT_DIR/contactor_field.png` (default `out/figures`; `docs/figures` redraws the committed one) and prints the residence-time
 //! statistics of both runs. It runs both scenes to their end (about 2 min of CPU each).
 //!
 //! Each column lies on its side, up to the right: the horizontal axis is the height `z`, the
@@ -267,7 +267,7 @@ where
 }
 
 fn main() -> std::process::ExitCode {
-    plotting::main_writing_into("docs/figures", |out| {
+    plotting::main_writing_into("out/figures", |out| {
         let scenes = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenes");
         let runs = [
             run(&scenes.join("contactor.toml"), "OpenFOAM flow (contactor.toml)")?,

@@ -1,5 +1,5 @@
 //! L06's figures, regenerated from the engine's own correlations and simulation into
-//! `docs/figures/` (PNG and SVG):
+//! `OUT_DIR` (default `out/figures/`; `docs/figures` redraws the committed ones; PNG and SVG):
 //!
 //!     cargo run --release -p wetbounce-tools --bin paper_figures [-- OUT_DIR] [--font FILE.ttf]
 //!
@@ -329,7 +329,7 @@ fn main() -> ExitCode {
             return ExitCode::FAILURE;
         }
     };
-    let out = PathBuf::from(args.first().map_or("docs/figures", |s| s.as_str()));
+    let out = PathBuf::from(args.first().map_or("out/figures", |s| s.as_str()));
     let result = (|| -> Result<(), String> {
         plotting::register(&font)?;
         std::fs::create_dir_all(&out).map_err(|e| format!("{}: {e}", out.display()))?;

@@ -92,7 +92,12 @@ pub fn main_writing_into(
     let mut args: Vec<String> = std::env::args().skip(1).collect();
     let result = take_font_arg(&mut args).and_then(|font| {
         register(&font)?;
-        run(Path::new(args.first().map_or(default, |s| s.as_str())))
+        // Tools write into `out/` unless told otherwise: the committed figures in docs/ change
+        // only when a user names that folder.
+        let out = Path::new(args.first().map_or(default, |s| s.as_str()));
+        std::fs::create_dir_all(out)
+            .map_err(|e| format!("{}: cannot create the folder: {e}", out.display()))?;
+        run(out)
     });
     match result {
         Ok(()) => std::process::ExitCode::SUCCESS,
