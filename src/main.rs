@@ -1,15 +1,12 @@
 //! The `wetbounce` command line: `run` a scene, `check` it, or `recover` a cut MCAP.
 
-use clap::{Parser, Subcommand, ValueEnum};
+use clap::{Parser, Subcommand};
 use std::fmt::Write as _;
 use std::io::Write as _;
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 use wetbounce::fluid::field::OutsideField;
-use wetbounce::output::{
-    EventCsv, McapOptions, McapSink, OutputError, Progress, RunSummary, Sink, Statistics, TrajectoryCsv,
-    VtkSink,
-};
+use wetbounce::output::{Folder, Format, OutputError, Outputs, Progress, RunSummary, Sink, Statistics};
 use wetbounce::run::{RunFailed, RunReport, StopSignals, run};
 use wetbounce::scene::{LoadOptions, Scene, field_report, kind_reports};
 
@@ -19,26 +16,6 @@ use wetbounce::scene::{LoadOptions, Scene, field_report, kind_reports};
 struct Cli {
     #[command(subcommand)]
     command: Command,
-}
-
-/// An output file format of `run`.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
-enum Format {
-    /// DIR/<scene>.mcap: Foxglove's schemas, opens in Foxglove and rerun.
-    Mcap,
-    /// DIR/trajectories.csv and DIR/events.csv.
-    Csv,
-    /// DIR/<scene>.rrd: rerun's native recording (needs the `rerun` cargo feature).
-    Rrd,
-    /// DIR/<scene>.pvd (its frames in DIR/<scene>_vtk/), DIR/<scene>_walls.vtp and
-    /// DIR/events.csv: for ParaView.
-    Vtk,
-}
-
-/// The formats written when `--formats` is not given: the MCAP, and the rerun recording when
-/// this build can write it.
-fn default_formats() -> Vec<Format> {
-    if cfg!(feature = "rerun") { vec![Format::Mcap, Format::Rrd] } else { vec![Format::Mcap] }
 }
 
 /// The options of `run`.
@@ -136,22 +113,28 @@ fn run_scene(args: &RunArgs) -> Result<(String, ExitCode), String> {
             .build_global()
             .map_err(|e| format!("--threads {n}: {e}"))?;
     }
-    let formats = args.formats.clone().unwrap_or_else(default_formats);
-    if formats.contains(&Format::Rrd) && !cfg!(feature = "rerun") {
-        return Err("--formats rrd: this wetbounce was built without the `rerun` feature; \
-                    rebuild with `cargo build --release --features rerun`, or open the .mcap in rerun"
-            .into());
+    let formats = args.formats.clone().unwrap_or_else(Format::defaults);
+    for f in &formats {
+        f.available().map_err(|e| format!("--formats {e}"))?;
     }
     let options = LoadOptions { allow_long_run: args.allow_long_run };
     let scene = Scene::load_with(path, options).map_err(|e| e.to_string())?;
     let output_interval = output_interval(&scene, args)?;
     let stem = path.file_stem().map_or("scene".into(), |s| s.to_string_lossy().into_owned());
     let out = args.out.clone().unwrap_or_else(|| Path::new("out").join(&stem));
-    std::fs::create_dir_all(&out)
-        .map_err(|e| format!("{}: cannot create the output folder: {e}", out.display()))?;
-
-    let (mut sinks, mut written) = create_sinks(args, &formats, &scene, &out, &stem)?;
-    remove_stale_outputs(&out, &stem, &written);
+    let folder = Folder {
+        out: &out,
+        stem: &stem,
+        scene_path: &args.scene,
+        scene_source: &scene.source,
+        max_spheres: args.max_spheres,
+        // Spin columns only in a scene with rotation: the others keep their files byte for byte.
+        rotation: scene.setup.physics.rotation,
+    };
+    let Outputs { mut sinks, mut written, stale } = folder
+        .create(&formats)
+        .map_err(|errors| errors.iter().map(ToString::to_string).collect::<Vec<_>>().join("\nerror: "))?;
+    report_stale(&stale);
     let mut stats = Statistics::default();
     let mut progress = Progress::new(scene.duration, args.quiet);
 
@@ -191,11 +174,10 @@ fn run_scene(args: &RunArgs) -> Result<(String, ExitCode), String> {
     Ok((text, exit_status(&report, scene.duration, &signals, &errors, sim.record.left_field.as_ref())))
 }
 
-/// Removes an earlier run's outputs that this run does not write (`output::stale`), and says so
-/// on standard error: left beside the new outputs, an old events.csv or MCAP would be read as
-/// this run's. A file that cannot be removed is a warning, not a failed run.
-fn remove_stale_outputs(out: &Path, stem: &str, written: &[PathBuf]) {
-    let r = wetbounce::output::stale::remove(out, stem, written);
+/// Says on standard error which outputs of an earlier run were removed (`output::stale`): left
+/// beside the new outputs, an old events.csv or MCAP would be read as this run's. A file that
+/// could not be removed is a warning, not a failed run.
+fn report_stale(r: &wetbounce::output::stale::Removed) {
     for failed in &r.failed {
         eprintln!("warning: {failed}");
     }
@@ -205,69 +187,6 @@ fn remove_stale_outputs(out: &Path, stem: &str, written: &[PathBuf]) {
             "note: removed {}: an earlier run's outputs in formats this run does not write",
             names.join(", ")
         );
-    }
-}
-
-/// The sinks that write files.
-type Sinks = Vec<Box<dyn Sink>>;
-
-/// Creates every sink the formats ask for before the run starts, so that a bad output folder
-/// fails fast; when one cannot be created, those created before it are closed (their errors
-/// reported too) rather than dropped. Returns the sinks and the files they write.
-fn create_sinks(
-    args: &RunArgs,
-    formats: &[Format],
-    scene: &Scene,
-    out: &Path,
-    stem: &str,
-) -> Result<(Sinks, Vec<PathBuf>), String> {
-    let mut written: Vec<PathBuf> = Vec::new();
-    let mut sinks: Sinks = Vec::new();
-    // Spin columns only in a scene with rotation: the others keep their files byte for byte.
-    let rotation = scene.setup.physics.rotation;
-    let created = (|| -> Result<(), OutputError> {
-        if formats.contains(&Format::Mcap) {
-            let file = out.join(format!("{stem}.mcap"));
-            let options = McapOptions {
-                max_spheres: args.max_spheres,
-                scene_path: args.scene.display().to_string(),
-                scene_source: scene.source.clone(),
-            };
-            sinks.push(Box::new(McapSink::create_for(&file, options, rotation)?));
-            written.push(file);
-        }
-        if formats.contains(&Format::Csv) {
-            let t = out.join("trajectories.csv");
-            sinks.push(Box::new(TrajectoryCsv::create_for(&t, rotation)?));
-            written.push(t);
-        }
-        if formats.contains(&Format::Vtk) {
-            let vtk = VtkSink::create(out, stem)?;
-            written.push(vtk.pvd_path().to_path_buf());
-            written.push(vtk.walls_path().to_path_buf());
-            sinks.push(Box::new(vtk));
-        }
-        // The events are one table for both: ParaView opens events.csv as a table it can plot.
-        if formats.contains(&Format::Csv) || formats.contains(&Format::Vtk) {
-            let e = out.join("events.csv");
-            sinks.push(Box::new(EventCsv::create_for(&e, rotation)?));
-            written.push(e);
-        }
-        #[cfg(feature = "rerun")]
-        if formats.contains(&Format::Rrd) {
-            let file = out.join(format!("{stem}.rrd"));
-            sinks.push(Box::new(wetbounce::output::RerunSink::create(&file, stem, &scene.source)?));
-            written.push(file);
-        }
-        Ok(())
-    })();
-    match created {
-        Ok(()) => Ok((sinks, written)),
-        Err(e) => {
-            let mut messages = vec![e.to_string()];
-            messages.extend(sinks.iter_mut().filter_map(|s| s.finish().err()).map(|e| e.to_string()));
-            Err(messages.join("\nerror: "))
-        }
     }
 }
 

@@ -8,13 +8,11 @@ use numpy::{IntoPyArray, PyArray1, PyArray2};
 use pyo3::exceptions::{PyRuntimeError, PyValueError};
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList};
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::{Duration, Instant};
 use wetbounce::contact::ContactEvent;
-use wetbounce::output::{
-    EventCsv, McapOptions, McapSink, OutputError, RunSummary, Sink, Statistics, TrajectoryCsv,
-};
+use wetbounce::output::{Folder, Format, OutputError, Outputs, RunSummary, Sink, Statistics};
 use wetbounce::pipeline::LostParticle;
 use wetbounce::run::{RunFailed, RunReport, run};
 use wetbounce::scene::LoadOptions;
@@ -144,55 +142,14 @@ impl Simulation {
     }
 }
 
-/// The output files of one run, as `wetbounce run` makes them.
-type Sinks = Vec<Box<dyn Sink + Send>>;
-
-fn create_sinks(
-    formats: &[String],
-    out: &Path,
-    stem: &str,
-    scene_path: &Path,
-    source: &str,
-    max_spheres: usize,
-    rotation: bool,
-) -> PyResult<(Sinks, Vec<PathBuf>)> {
+/// The output folder of one run, as `wetbounce run` makes it (`output::Folder`, shared with the
+/// CLI): the same files for the same formats, and an earlier run's stale outputs removed.
+fn create_sinks(formats: &[String], folder: &Folder<'_>) -> PyResult<Outputs> {
+    let mut parsed = Vec::new();
     for f in formats {
-        if !matches!(f.as_str(), "mcap" | "csv") {
-            return Err(PyValueError::new_err(format!(
-                "formats: {f:?} is not one of \"mcap\", \"csv\" (the rerun recording needs the CLI built with `--features rerun`)"
-            )));
-        }
+        parsed.push(Format::parse(f).map_err(|e| PyValueError::new_err(format!("formats: {e}")))?);
     }
-    let mut sinks: Sinks = Vec::new();
-    let mut written = Vec::new();
-    let created = (|| -> Result<(), OutputError> {
-        if formats.iter().any(|f| f == "mcap") {
-            let file = out.join(format!("{stem}.mcap"));
-            let options = McapOptions {
-                max_spheres,
-                scene_path: scene_path.display().to_string(),
-                scene_source: source.to_owned(),
-            };
-            sinks.push(Box::new(McapSink::create_for(&file, options, rotation)?));
-            written.push(file);
-        }
-        if formats.iter().any(|f| f == "csv") {
-            let (t, e) = (out.join("trajectories.csv"), out.join("events.csv"));
-            sinks.push(Box::new(TrajectoryCsv::create_for(&t, rotation)?));
-            written.push(t);
-            sinks.push(Box::new(EventCsv::create_for(&e, rotation)?));
-            written.push(e);
-        }
-        Ok(())
-    })();
-    match created {
-        Ok(()) => Ok((sinks, written)),
-        Err(e) => {
-            let mut errors = vec![e];
-            errors.extend(sinks.iter_mut().filter_map(|s| s.finish().err()));
-            Err(output_error(&errors))
-        }
-    }
+    folder.create(&parsed).map_err(|errors| output_error(&errors))
 }
 
 #[pymethods]
@@ -231,8 +188,12 @@ impl Simulation {
     /// Runs the simulation from time 0 to the scene's duration, exactly as ``wetbounce run``
     /// does, and returns the files written. With ``out`` (a folder, created if needed), writes
     /// the CLI's files there: ``NAME.mcap`` (``"mcap"`` in ``formats``, the default),
-    /// ``trajectories.csv`` and ``events.csv`` (``"csv"``), and always ``summary.json``;
-    /// ``NAME`` is ``name``, else the scene file's stem (``scene`` for a dict).
+    /// ``trajectories.csv`` and ``events.csv`` (``"csv"``), ``NAME.pvd`` with its frames in
+    /// ``NAME_vtk/``, ``NAME_walls.vtp`` and ``events.csv`` for ParaView (``"vtk"``), and
+    /// always ``summary.json``; ``NAME`` is ``name``, else the scene file's stem (``scene`` for
+    /// a dict). An earlier run's outputs in the folder that this run does not write are removed,
+    /// as the CLI removes them. A folder that cannot be created, like a file that cannot be
+    /// written, raises :class:`OutputError` naming it.
     /// ``output_interval`` (s) overrides the scene's, as ``--output-interval``; ``max_spheres``
     /// is ``--max-spheres``. Without ``out`` nothing is written.
     ///
@@ -281,19 +242,20 @@ impl Simulation {
                 self.scene_path.file_stem().map_or("scene".into(), |s| s.to_string_lossy().into_owned())
             }
         });
-        let (mut sinks, mut written) = match &out {
+        let Outputs { mut sinks, mut written, .. } = match &out {
             Some(dir) => {
-                std::fs::create_dir_all(dir).map_err(|e| {
-                    pyo3::exceptions::PyOSError::new_err(format!(
-                        "{}: cannot create the output folder: {e}",
-                        dir.display()
-                    ))
-                })?;
-                // The spin columns as `wetbounce run` decides them, so the files stay the CLI's.
-                let rotation = self.sim.setup.physics.rotation;
-                create_sinks(&formats, dir, &stem, &self.scene_path, &self.source, max_spheres, rotation)?
+                let folder = Folder {
+                    out: dir,
+                    stem: &stem,
+                    scene_path: &self.scene_path,
+                    scene_source: &self.source,
+                    max_spheres,
+                    // The spin columns as `wetbounce run` decides them, so the files stay the CLI's.
+                    rotation: self.sim.setup.physics.rotation,
+                };
+                create_sinks(&formats, &folder)?
             }
-            None => (Vec::new(), Vec::new()),
+            None => Outputs { sinks: Vec::new(), written: Vec::new(), stale: Default::default() },
         };
 
         let stop = AtomicBool::new(false);
@@ -584,7 +546,17 @@ impl Simulation {
             let rows = loads.call1((rows.to_string(),))?;
             let kwargs = PyDict::new(py);
             kwargs.set_item("columns", PyList::new(py, columns)?)?;
-            pandas.getattr("DataFrame")?.call((rows,), Some(&kwargs))?.call_method1("set_index", ("name",))
+            let df = pandas
+                .getattr("DataFrame")?
+                .call((rows,), Some(&kwargs))?
+                .call_method1("set_index", ("name",))?;
+            // JSON's null (no impacts, no residence time yet) is NaN in a numeric column, as
+            // pandas expects, not None in an object column.
+            for column in columns.iter().filter(|c| !matches!(**c, "name" | "histogram")) {
+                let numeric = pandas.call_method1("to_numeric", (df.get_item(*column)?,))?;
+                df.set_item(*column, numeric)?;
+            }
+            Ok(df)
         };
         let outlets: Vec<serde_json::Value> = json["outlets"]
             .as_array()

@@ -361,6 +361,21 @@ def test_a_run_with_an_outlet_gives_residence_times():
     assert outlets.iloc[0]["mean"] == pytest.approx(rt["residence_time"].mean())
 
 
+def test_summary_frames_give_nan_not_none_where_nothing_was_measured():
+    """Before any drop leaves, the outlet's statistics are NaN in float columns (pandas'
+    missing value), not None in object columns; the same for a wall without impacts."""
+    scene = wb.Scene.load(SCENES / "column.toml")
+    sim = scene.simulation()
+    sim.advance_to(0.01)
+    outlets = sim.summary_frames()["outlets"]
+    assert outlets.iloc[0]["count"] == 0
+    for column in ("mean", "min", "p10", "p50", "p90", "max"):
+        assert outlets[column].dtype == np.float64, (column, outlets[column].dtype)
+        assert math.isnan(outlets.iloc[0][column]), column
+    walls = sim.summary_frames()["walls"]
+    assert walls["mean_st"].dtype == np.float64 and walls["mean_st"].isna().all()
+
+
 def test_run_only_from_time_zero(tmp_path):
     sim = wb.Scene.load(TOLUENE).simulation()
     sim.advance_to(0.01)
@@ -370,13 +385,40 @@ def test_run_only_from_time_zero(tmp_path):
 
 def test_bad_formats_and_unwritable_files_raise(tmp_path):
     scene = wb.Scene.load(TOLUENE)
-    with pytest.raises(ValueError, match="formats"):
-        scene.run(tmp_path, formats=["vtk"])
+    with pytest.raises(ValueError, match='formats: "hdf5" is not one of "mcap", "csv", "rrd", "vtk"'):
+        scene.run(tmp_path, formats=["hdf5"])
     (tmp_path / "trajectories.csv").mkdir()
     with pytest.raises(wb.OutputError) as info:
         scene.run(tmp_path, formats=["csv"])
     assert "trajectories.csv" in str(info.value)
     assert isinstance(info.value, OSError)
+    # A folder that cannot be created (inside a file) is an OutputError naming it too.
+    (tmp_path / "a_file").write_text("x")
+    with pytest.raises(wb.OutputError, match="cannot create the output folder") as info:
+        scene.run(tmp_path / "a_file" / "out", formats=["csv"])
+    assert info.value.files == [str(tmp_path / "a_file" / "out")]
+
+
+def test_vtk_files_are_the_cli_files_and_a_rerun_removes_the_stale_ones(tmp_path):
+    """formats=["vtk"] writes what ``wetbounce run --formats vtk`` writes, byte for byte (one
+    output folder for both, ``output::Folder``); a rerun in other formats removes them."""
+    scene = wb.Scene.load(TOLUENE).with_values({"simulation.duration": 0.2, "simulation.output_interval": 0.05})
+    written = scene.simulation().run(tmp_path / "py", formats=["vtk"], name="drop")
+    names = sorted(p.name for p in written)
+    assert names == ["drop.pvd", "drop_walls.vtp", "events.csv", "summary.json"], names
+    frames = sorted(p.name for p in (tmp_path / "py" / "drop_vtk").iterdir())
+    assert frames == [f"particles_{k:06}.vtp" for k in range(5)], frames
+    exe = cli()
+    if exe is not None:
+        path = tmp_path / "drop.toml"
+        path.write_text(scene.source)
+        subprocess.run([exe, "run", path, "--out", tmp_path / "cli", "--formats", "vtk", "--quiet"],
+                       check=True, capture_output=True)
+        for rel in ["drop.pvd", "drop_walls.vtp", "events.csv", *(f"drop_vtk/{f}" for f in frames)]:
+            assert (tmp_path / "py" / rel).read_bytes() == (tmp_path / "cli" / rel).read_bytes(), rel
+    scene.simulation().run(tmp_path / "py", formats=["csv"], name="drop")
+    assert not (tmp_path / "py" / "drop.pvd").exists()
+    assert not (tmp_path / "py" / "drop_vtk").exists()
 
 
 # --- the GIL and Ctrl-C -------------------------------------------------------------------
@@ -388,25 +430,38 @@ def long_scene() -> wb.Scene:
 
 
 def test_the_gil_is_released_while_stepping():
-    sim = long_scene().simulation()
-    done = threading.Event()
-
-    def work():
-        sim.advance_to(0.05)
-        done.set()
-
-    worker = threading.Thread(target=work)
-    start = time.perf_counter()
-    worker.start()
+    """Counts work done by another Python thread *during one* ``advance_to`` call, whatever the
+    machine's speed: the counting thread needs the GIL for each tick, and once it has ticked
+    200 times it stops the run with SIGINT. With the GIL held by the engine it could not tick
+    at all, the call would run to its end (a minute of simulated time) or to the alarm, and the
+    test fails either way. (It used to assume that a run takes over 0.2 s: a release build took
+    0.02 s.)"""
+    sim = long_scene().with_values({"simulation.duration": 60.0}).simulation()
     ticks = 0
-    while not done.is_set():
-        ticks += 1
-        time.sleep(0.001)
-    worker.join()
-    elapsed = time.perf_counter() - start
-    assert elapsed > 0.2, "the run should take long enough to tell"
-    # With the GIL held by the engine, this thread would not run at all while it steps.
-    assert ticks >= 20 and ticks > 0.1 * elapsed / 0.001, (ticks, elapsed)
+
+    def count():
+        nonlocal ticks
+        while ticks < 200:
+            ticks += 1
+            time.sleep(0.0005)
+        os.kill(os.getpid(), signal.SIGINT)
+
+    def give_up(signum, frame):
+        raise TimeoutError("the counting thread never ran while the engine stepped")
+
+    previous = signal.signal(signal.SIGALRM, give_up)
+    signal.alarm(120)
+    counter = threading.Thread(target=count)
+    try:
+        counter.start()
+        with pytest.raises(KeyboardInterrupt):
+            sim.advance_to(sim.duration)
+    finally:
+        signal.alarm(0)
+        signal.signal(signal.SIGALRM, previous)
+    counter.join()
+    assert ticks == 200
+    assert 0 < sim.time < sim.duration
 
 
 def interrupt_after(seconds: float) -> threading.Timer:

@@ -110,8 +110,10 @@ class Simulation:
         name: str | None = None,
     ) -> list[Path]:
         """Runs from time 0 to the scene's duration as ``wetbounce run`` does; with ``out``,
-        writes its files there (``formats``: ``"mcap"``, ``"csv"``) and ``summary.json``.
-        Returns the files written."""
+        writes its files there (``formats``: ``"mcap"``, ``"csv"``, ``"vtk"``, and ``"rrd"``
+        in a build with rerun) and ``summary.json``, removing an earlier run's outputs it does
+        not write. Returns the files written; raises :class:`OutputError` for any output
+        failure, the folder's included."""
 
     @property
     def time(self) -> float:

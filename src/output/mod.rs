@@ -14,6 +14,7 @@
 
 mod csv_files;
 pub mod file;
+pub mod folder;
 pub mod geometry;
 pub mod mcap;
 mod progress;
@@ -25,6 +26,7 @@ mod summary;
 pub mod vtk;
 
 pub use csv_files::{EventCsv, TrajectoryCsv};
+pub use folder::{Folder, Format, Outputs};
 pub use mcap::{McapOptions, McapSink};
 pub use progress::Progress;
 #[cfg(feature = "rerun")]
