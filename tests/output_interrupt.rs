@@ -96,7 +96,8 @@ fn start(scene: &Path, out: &Path) -> std::process::Child {
     wetbounce()
         .arg("run")
         .arg(scene)
-        .args(["--formats", "mcap,csv", "--quiet", "--threads", "1", "--out"])
+        // The hour-long pour would not fit on the disk (it is always stopped long before).
+        .args(["--formats", "mcap,csv", "--quiet", "--threads", "1", "--allow-large-output", "--out"])
         .arg(out)
         .stdout(Stdio::piped())
         .stderr(Stdio::piped())
