@@ -62,8 +62,8 @@ pub struct RunEstimate {
     pub bytes_per_particle: f64,
     /// Bytes of the flow field's velocity values (all snapshots), 0 for an analytic flow.
     pub field_bytes: f64,
-    /// Particle-frames per output frame interval of the run, summed over the frames (rows of
-    /// trajectories.csv): `frames × initial` plus what the injectors add by each frame.
+    /// Particles summed over the run's frames (the rows of trajectories.csv): `frames ×
+    /// initial` plus what the injectors have added by each frame.
     pub particle_frames: f64,
     /// Output frames.
     pub frames: f64,
@@ -91,8 +91,8 @@ impl RunEstimate {
     }
 
     /// The same run with frames every `output_interval` (s) instead (`run --output-interval`).
-    pub fn with_output_interval(&self, duration: f64, output_interval: f64, scene: &EstimateInputs) -> Self {
-        let (frames, particle_frames) = scene.frames(duration, output_interval);
+    pub fn with_output_interval(&self, duration: f64, output_interval: f64, inputs: &EstimateInputs) -> Self {
+        let (frames, particle_frames) = inputs.frames(duration, output_interval);
         RunEstimate { frames, particle_frames, ..self.clone() }
     }
 }
@@ -221,7 +221,8 @@ pub(super) fn check_memory(e: &RunEstimate, available: Option<f64>) -> Result<()
     ))
 }
 
-/// What the memory is made of, in words: `1e6 particles × 2.9 kB (55 history modes), field 0 B`.
+/// What the memory is made of, in words: `up to 1000000 particles × 2.90 kB each, 2.64 kB of it
+/// the history effect's 55 modes, twice`.
 pub fn memory_breakdown(e: &RunEstimate) -> String {
     let history = if e.history_modes > 0 {
         format!(
