@@ -47,6 +47,14 @@ struct RunArgs {
     /// Accept a run of more than 10⁷ output frames or 10¹⁰ time steps (refused otherwise).
     #[arg(long)]
     allow_long_run: bool,
+    /// Accept a run whose estimated memory is more than this machine has available (refused
+    /// otherwise).
+    #[arg(long)]
+    allow_large_memory: bool,
+    /// Accept a run whose estimated output is more than the output folder's free disk space
+    /// (refused otherwise).
+    #[arg(long)]
+    allow_large_output: bool,
 }
 
 #[derive(Subcommand)]
@@ -60,6 +68,10 @@ enum Command {
         /// Accept a run of more than 10⁷ output frames or 10¹⁰ time steps (refused otherwise).
         #[arg(long)]
         allow_long_run: bool,
+        /// Accept a run whose estimated memory is more than this machine has available
+        /// (refused otherwise).
+        #[arg(long)]
+        allow_large_memory: bool,
     },
     /// Rewrite the readable part of an MCAP cut short (a killed run, a full disk) as a valid
     /// file: every message up to the last whole frame.
@@ -75,8 +87,9 @@ fn main() -> ExitCode {
     let cli = Cli::parse();
     let result = match cli.command {
         Command::Run(args) => run_scene(&args),
-        Command::Check { scene, allow_long_run } => {
-            check_scene(&scene, LoadOptions { allow_long_run }).map(|text| (text, ExitCode::SUCCESS))
+        Command::Check { scene, allow_long_run, allow_large_memory } => {
+            check_scene(&scene, LoadOptions { allow_long_run, allow_large_memory })
+                .map(|text| (text, ExitCode::SUCCESS))
         }
         Command::Recover { input, output } => {
             recover_mcap(&input, output.as_deref()).map(|text| (text, ExitCode::SUCCESS))
@@ -117,11 +130,19 @@ fn run_scene(args: &RunArgs) -> Result<(String, ExitCode), String> {
     for f in &formats {
         f.available().map_err(|e| format!("--formats {e}"))?;
     }
-    let options = LoadOptions { allow_long_run: args.allow_long_run };
-    let scene = Scene::load_with(path, options).map_err(|e| e.to_string())?;
+    let options =
+        LoadOptions { allow_long_run: args.allow_long_run, allow_large_memory: args.allow_large_memory };
+    let mut scene = Scene::load_with(path, options).map_err(|e| e.to_string())?;
     let output_interval = output_interval(&scene, args)?;
     let stem = path.file_stem().map_or("scene".into(), |s| s.to_string_lossy().into_owned());
     let out = args.out.clone().unwrap_or_else(|| Path::new("out").join(&stem));
+    std::fs::create_dir_all(&out)
+        .map_err(|e| format!("{}: cannot create the output folder: {e}", out.display()))?;
+    check_output_size(&scene, args, &formats, output_interval, &out)?;
+    if let Some(warning) = memory_warning(&scene.estimate) {
+        eprintln!("warning: {warning}");
+    }
+
     let folder = Folder {
         out: &out,
         stem: &stem,
@@ -138,7 +159,8 @@ fn run_scene(args: &RunArgs) -> Result<(String, ExitCode), String> {
     let mut stats = Statistics::default();
     let mut progress = Progress::new(scene.duration, args.quiet);
 
-    let mut sim = scene.simulation();
+    // The scene's particles move into the simulation: a run holds one copy of them.
+    let mut sim = scene.take_simulation().map_err(|e| e.to_string())?;
     let result = {
         let mut all: Vec<&mut dyn Sink> = sinks.iter_mut().map(|s| s.as_mut() as &mut dyn Sink).collect();
         all.push(&mut stats);
@@ -394,5 +416,102 @@ fn check_scene(path: &Path, options: LoadOptions) -> Result<String, String> {
     for line in field_report(&scene) {
         let _ = writeln!(text, "  {line}");
     }
+    for line in cost_report(&scene) {
+        let _ = writeln!(text, "  {line}");
+    }
     Ok(text)
+}
+
+/// What `check` says a run costs: its memory, and the bytes each output format writes (from
+/// counts, [`wetbounce::scene::estimate`]), with a warning for each that is large.
+fn cost_report(scene: &Scene) -> Vec<String> {
+    use wetbounce::scene::estimate::{OUTPUT_WARNING_BYTES, bytes, memory_breakdown};
+    let e = &scene.estimate;
+    let rotation = scene.setup.physics.rotation;
+    let mut out = vec![
+        format!("memory: about {} ({})", bytes(e.memory_bytes()), memory_breakdown(e)),
+        format!(
+            "output: {} frames, {} particle-frames: trajectories.csv about {}, MCAP about {}, VTK about {}",
+            e.frames,
+            wetbounce::scene::estimate::count(e.particle_frames),
+            bytes(e.csv_bytes(rotation)),
+            bytes(e.mcap_bytes()),
+            bytes(e.vtk_bytes())
+        ),
+    ];
+    out.extend(memory_warning(e).into_iter().map(|w| format!("warning: {w}")));
+    let largest = e.csv_bytes(rotation).max(e.mcap_bytes()).max(e.vtk_bytes());
+    if largest > OUTPUT_WARNING_BYTES {
+        out.push(format!(
+            "warning: the outputs may reach {} (over {}): raise simulation.output_interval, or write fewer \
+             formats",
+            bytes(largest),
+            bytes(OUTPUT_WARNING_BYTES)
+        ));
+    }
+    out
+}
+
+/// A warning when the run's memory is over half of what this machine has available (a run
+/// over all of it is refused at load, unless `--allow-large-memory`).
+fn memory_warning(e: &wetbounce::scene::estimate::RunEstimate) -> Option<String> {
+    use wetbounce::scene::estimate::{available_memory, bytes};
+    let available = available_memory()?;
+    (e.memory_bytes() > 0.5 * available).then(|| {
+        format!(
+            "the run may need {} of memory, more than half the {} this machine has available",
+            bytes(e.memory_bytes()),
+            bytes(available)
+        )
+    })
+}
+
+/// Refuses a run whose outputs, in `formats` at `output_interval`, are estimated at more than
+/// the free space of `out`'s file system (unless `--allow-large-output`), and warns past
+/// [`wetbounce::scene::estimate::OUTPUT_WARNING_BYTES`].
+fn check_output_size(
+    scene: &Scene,
+    args: &RunArgs,
+    formats: &[Format],
+    output_interval: f64,
+    out: &Path,
+) -> Result<(), String> {
+    use wetbounce::scene::estimate::{OUTPUT_WARNING_BYTES, bytes, free_disk_space};
+    let e = scene.estimate.with_output_interval(scene.duration, output_interval, &scene.estimate_inputs);
+    let rotation = scene.setup.physics.rotation;
+    let mut total = 0.0;
+    let mut parts = Vec::new();
+    for f in formats {
+        let b = match f {
+            Format::Csv => e.csv_bytes(rotation),
+            Format::Mcap | Format::Rrd => e.mcap_bytes(),
+            Format::Vtk => e.vtk_bytes(),
+        };
+        total += b;
+        parts.push(format!("{} {}", format!("{f:?}").to_lowercase(), bytes(b)));
+    }
+    let what = format!(
+        "{} frames of up to {} particles: about {} ({})",
+        e.frames,
+        wetbounce::scene::estimate::count(e.max_particles),
+        bytes(total),
+        parts.join(", ")
+    );
+    if !args.allow_large_output
+        && let Some(free) = free_disk_space(out)
+        && total > free
+    {
+        return Err(format!(
+            "{}: the outputs would take {what}, more than the {} free in {}; raise \
+             simulation.output_interval (or --output-interval), write fewer --formats, or allow it with \
+             --allow-large-output",
+            args.scene.display(),
+            bytes(free),
+            out.display()
+        ));
+    }
+    if total > OUTPUT_WARNING_BYTES {
+        eprintln!("warning: the outputs may take {what}");
+    }
+    Ok(())
 }

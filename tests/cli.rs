@@ -128,3 +128,129 @@ fn zero_threads_is_refused() {
     assert!(!out.status.success());
     assert!(String::from_utf8(out.stderr).unwrap().contains("--threads"));
 }
+
+/// Writes `text` as `scene.toml` in a new folder and returns both.
+fn scene_file(text: &str) -> (tempfile::TempDir, std::path::PathBuf) {
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("scene.toml");
+    std::fs::write(&path, text).unwrap();
+    (dir, path)
+}
+
+/// A bead scene with `extra` (TOML tables) appended; 1 s of beads in oil on a floor.
+fn beads_scene(output_interval: &str, effects: &str, extra: &str) -> String {
+    format!(
+        r#"
+[simulation]
+dt = 1e-4
+duration = 1.0
+output_interval = {output_interval}
+[fluid]
+density = 1000.0
+viscosity = 0.1
+[effects]
+gravity = {{}}
+drag = {{}}
+{effects}
+[[kinds]]
+name = "glass"
+type = "solid"
+density = 2500.0
+youngs_modulus = 6e10
+poisson_ratio = 0.23
+[[walls]]
+name = "floor"
+type = "plane"
+point = [0.0, 0.0, 0.0]
+normal = [0.0, 0.0, 1.0]
+{extra}
+"#
+    )
+}
+
+#[test]
+fn check_refuses_a_run_whose_memory_exceeds_the_machine_naming_the_count_key_before_placing_a_particle() {
+    // 4e7 beads with a 164-mode history (tolerance 1e-9): 8.1 kB each, 325 GB. Refused from
+    // the counts, before the random fill places any (which would take minutes and the memory).
+    let fill = "[[random_fill]]\nkind = \"glass\"\ndiameter = 1e-4\nmin = [-10.0, -10.0, 0.0]\n\
+                max = [10.0, 10.0, 1.0]\ncount = 40000000\nseed = 1";
+    let (_dir, path) = scene_file(&beads_scene("0.1", "history = { tolerance = 1e-9 }", fill));
+    let start = std::time::Instant::now();
+    let out = wetbounce().arg("check").arg(&path).output().unwrap();
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(!out.status.success(), "{stderr}");
+    assert!(start.elapsed().as_secs_f64() < 30.0, "took {:?}", start.elapsed());
+    assert!(stderr.contains("random_fill[0].count: the run would need about 325 GB of memory"), "{stderr}");
+    assert!(
+        stderr.contains("up to 4e7 particles × 8.13 kB each, 7.87 kB of it the history effect's 164 modes"),
+        "{stderr}"
+    );
+    assert!(
+        stderr.contains("MemAvailable in /proc/meminfo") && stderr.contains("--allow-large-memory"),
+        "{stderr}"
+    );
+}
+
+#[test]
+fn check_prints_the_runs_memory_and_output_size_and_warns_of_terabytes_of_output() {
+    // 25,000 beads × 1e7 frames (issue 25, point 12): about 25 TB of CSV, accepted silently
+    // before. A lattice of 50 × 50 × 10 at 2 mm.
+    let lattice = "[[lattice]]\nkind = \"glass\"\ndiameter = 1e-3\nmin = [0.0, 0.0, 0.0]\n\
+                   max = [0.1, 0.1, 0.02]\nspacing = 2e-3";
+    let (_dir, path) = scene_file(&beads_scene("1e-7", "", lattice));
+    let out = wetbounce().arg("check").arg(&path).output().unwrap();
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    assert!(stdout.contains("  memory: about 6.40 MB (up to 25000 particles × 256 B each)"), "{stdout}");
+    assert!(
+        stdout.contains("  output: 10000001 frames, 2.5e11 particle-frames: trajectories.csv about 25.0 TB"),
+        "{stdout}"
+    );
+    assert!(stdout.contains("  warning: the outputs may reach 25.0 TB"), "{stdout}");
+    // `run` refuses it before it starts: no disk here has 25 TB free.
+    let dir = tempfile::tempdir().unwrap();
+    let out = wetbounce()
+        .args(["run", "--quiet", "--formats", "csv", "--out"])
+        .arg(dir.path())
+        .arg(&path)
+        .output()
+        .unwrap();
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(!out.status.success(), "{stderr}");
+    assert!(
+        stderr.contains(
+            "the outputs would take 10000001 frames of up to 25000 particles: about 25.0 TB (csv 25.0 TB)"
+        ),
+        "{stderr}"
+    );
+    assert!(stderr.contains("free in") && stderr.contains("--allow-large-output"), "{stderr}");
+    assert!(!dir.path().join("trajectories.csv").exists(), "nothing written");
+}
+
+#[test]
+fn the_estimated_rows_of_trajectories_csv_bound_the_rows_a_run_with_an_injector_writes() {
+    // An injector at 200/s from 0.2 s to 0.7 s over 1 s, frames every 0.05 s, and one bead.
+    let extra = "[[particles]]\nkind = \"glass\"\ndiameter = 1e-3\nposition = [0.0, 0.0, 0.05]\n\
+                 [[injectors]]\nkind = \"glass\"\nrate = 200.0\nseed = 3\nstart = 0.2\nstop = 0.7\n\
+                 region = { type = \"box\", min = [-0.02, -0.02, 0.02], max = [0.02, 0.02, 0.04] }\n\
+                 diameter = { distribution = \"fixed\", value = 1e-3 }";
+    let (dir, path) = scene_file(&beads_scene("0.05", "", extra));
+    let scene = wetbounce::Scene::load(&path).unwrap();
+    let out = wetbounce()
+        .args(["run", "--quiet", "--formats", "csv", "--out"])
+        .arg(dir.path())
+        .arg(&path)
+        .output()
+        .unwrap();
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let rows = std::fs::read_to_string(dir.path().join("trajectories.csv")).unwrap().lines().count() - 1;
+    let e = &scene.estimate;
+    assert_eq!(e.frames, 21.0);
+    assert!((e.max_particles - 101.0).abs() < 1e-9, "{}", e.max_particles);
+    // Nothing leaves: the estimate is the rows within the injections' rounding (one frame's).
+    assert!(
+        rows as f64 <= e.particle_frames && e.particle_frames <= rows as f64 + 100.0,
+        "{rows} rows, estimated {}",
+        e.particle_frames
+    );
+}

@@ -369,3 +369,84 @@ fn an_explicit_dt_beyond_the_fields_velocity_gradient_is_refused_naming_it() {
     assert!(err.contains("exponential integrator in the flow field"), "{err}");
     assert!(load_rotating(100.0 * OMEGA, "3e-3", "").is_ok());
 }
+
+/// The rotating scene in a field that flips its turning direction: snapshots `a.vti` (Ω) and
+/// `b.vti` (−Ω) at `times`, repeating with `period` when given (TOML), loaded with `dt`.
+fn load_flipping(dir: &Path, times: &str, period: &str, dt: &str) -> Result<Scene, String> {
+    let text = rotating_scene(EFFECTS, dt, "").replace(
+        "flow = { type = \"field\", file = \"rotation.vti\" }",
+        &format!("flow = {{ type = \"field\", files = [\"a.vti\", \"b.vti\"], times = {times}{period} }}"),
+    );
+    Scene::from_str(&text, &dir.join("scene.toml")).map_err(|e| e.to_string())
+}
+
+fn flipping_files() -> tempfile::TempDir {
+    let dir = tempfile::tempdir().unwrap();
+    write_rotating_field(&dir.path().join("a.vti"), OMEGA);
+    write_rotating_field(&dir.path().join("b.vti"), -OMEGA);
+    dir
+}
+
+#[test]
+fn an_unsteady_field_faster_than_the_step_sets_the_auto_step_and_refuses_a_longer_explicit_one() {
+    // Two snapshots 1e-7 s apart, period 2e-7 s (issue 25, point 3): auto took 2.7e-4 s from
+    // the relaxation times and the bead bounced 52 times on an aliased flow; an explicit 1e-4 s
+    // was accepted.
+    let dir = flipping_files();
+    let auto = load_flipping(dir.path(), "[0.0, 1e-7]", ", period = 2e-7", "\"auto\"")
+        .unwrap_or_else(|e| panic!("{e}"))
+        .auto_step
+        .unwrap();
+    assert!(auto.limited_by.contains("interval between the flow field's snapshots"), "{}", auto.limited_by);
+    assert!((auto.time_scale - 1e-7).abs() < 1e-12 * 1e-7 + 1e-22, "{}", auto.time_scale);
+    assert!(auto.dt <= 1e-7 / 4.0, "{}", auto.dt);
+    let err = load_flipping(dir.path(), "[0.0, 1e-7]", ", period = 2e-7", "1e-4").unwrap_err();
+    assert!(
+        err.contains("simulation.dt: 0.0001 s is longer than the shortest interval between the flow field's snapshots, 1e-7 s"),
+        "{err}"
+    );
+    assert!(err.contains("use dt <= 1e-7 s, or dt = \"auto\""), "{err}");
+    // The wrap of a periodic series counts: snapshots 1 s apart, back to the first 1e-3 s later.
+    let err = load_flipping(dir.path(), "[0.0, 1.0]", ", period = 1.001", "2e-3").unwrap_err();
+    assert!(err.contains("the wrap of the periodic series"), "{err}");
+    assert!(load_flipping(dir.path(), "[0.0, 1.0]", ", period = 1.001", "9e-4").is_ok());
+    // A series held at its ends has no wrap: only the 1 s interval, which dt = 2e-3 s resolves.
+    assert!(load_flipping(dir.path(), "[0.0, 1.0]", "", "2e-3").is_ok());
+}
+
+proptest::proptest! {
+    #![proptest_config(proptest::prelude::ProptestConfig::with_cases(24))]
+
+    /// For any two snapshot times and any period: `dt = "auto"` never takes a step longer than
+    /// a fraction of the shortest snapshot interval (the wrap included), an explicit step up to
+    /// that interval is accepted and one beyond it is refused naming `simulation.dt`.
+    #[test]
+    fn no_accepted_step_is_longer_than_the_shortest_snapshot_interval(
+        t0 in -1.0..1.0f64,
+        gap_exp in -7.0..-2.0f64,
+        wrap in proptest::option::of(1e-7..1e-2f64),
+    ) {
+        let dir = flipping_files();
+        let gap = 10f64.powf(gap_exp);
+        let times = format!("[{t0:e}, {:e}]", t0 + gap);
+        let period = wrap.map_or(String::new(), |w| format!(", period = {:e}", gap + w));
+        let scene = load_flipping(dir.path(), &times, &period, "\"auto\"");
+        // Read back the interval the loader saw (the sum above rounds).
+        let field = scene.as_ref().unwrap().setup.fluid.flow.field().unwrap();
+        let s = &field.snapshots;
+        let mut shortest = s[1].time - s[0].time;
+        if let Some(p) = field.period {
+            shortest = shortest.min(s[0].time + p - s[1].time);
+        }
+        let auto = scene.unwrap().auto_step.unwrap();
+        proptest::prop_assert!(auto.dt <= shortest / 4.0 * (1.0 + 1e-12), "{} vs {shortest}", auto.dt);
+        let beyond = load_flipping(dir.path(), &times, &period, &format!("{:e}", shortest * 1.01));
+        let err = beyond.unwrap_err();
+        proptest::prop_assert!(err.contains("simulation.dt") && err.contains("snapshots"), "{}", err);
+        // Within it: accepted, unless a stability limit (the drag's, the flow's) refuses it.
+        let within = load_flipping(dir.path(), &times, &period, &format!("{:e}", shortest * 0.99));
+        if let Err(e) = within {
+            proptest::prop_assert!(e.contains("largest stable step") && !e.contains("snapshots"), "{}", e);
+        }
+    }
+}

@@ -111,6 +111,13 @@ fn with_added_mass_the_factor_is_one_plus_five_halves_of_the_inertia_ratio() {
 /// A bead thrown at the floor of a vacuum scene with friction: the engine's rebound (velocity
 /// and spin right after) against the closed form, with the event's ε.
 fn thrown_bead(psi1: f64) -> (f64, f64, wetbounce::ContactEvent) {
+    let (psi2, vz, _, e) = spun_bead(psi1, 0.0);
+    (psi2, vz, e)
+}
+
+/// [`thrown_bead`] with an initial spin `omega_y` (rad/s) about y, given by the scene's
+/// `angular_velocity` key: (Ψ2 along x, v_z/vn, the velocity right after, the event).
+fn spun_bead(psi1: f64, omega_y: f64) -> (f64, f64, DVec3, wetbounce::ContactEvent) {
     let vn = 0.5;
     let text = format!(
         r#"
@@ -142,6 +149,7 @@ kind = "steel"
 diameter = 2e-3
 position = [0.0, 0.0, 1.02e-3]
 velocity = [{}, 0.0, {}]
+angular_velocity = [0.0, {omega_y}, 0.0]
 "#,
         psi1 * vn,
         -vn
@@ -155,7 +163,32 @@ velocity = [{}, 0.0, {}]
     let p = &sim.world.particles;
     let (v, w) = (p.vel[0], p.omega[0]);
     let contact = v + w.cross(1e-3 * DVec3::NEG_Z);
-    (contact.x / vn, v.z / vn, events[0])
+    (contact.x / vn, v.z / vn, v, events[0])
+}
+
+#[test]
+fn a_spinning_bead_leaves_a_frictional_floor_pushed_against_its_spin_slip_as_the_impulse_model_says() {
+    // Straight down at 0.5 m/s, spinning about y: the contact point (1 mm below the centre)
+    // slips at ω × (−R ẑ) = −R ω_y x̂. Friction opposes that slip, so the bead leaves with
+    // v_x of the sign of ω_y, where without spin it leaves straight up (v_x = 0); the contact
+    // point's velocity after is Walton's closed form of Ψ1 = R |ω_y| / vn.
+    let (vn, r) = (0.5, 1e-3);
+    let (_, _, still, _) = spun_bead(0.0, 0.0);
+    assert_eq!(still.x, 0.0, "no spin, no tangential velocity: {still}");
+    for omega_y in [-2000.0, -100.0, 100.0, 250.0, 2000.0] {
+        let (psi2, _, v, e) = spun_bead(0.0, omega_y);
+        let psi1: f64 = r * f64::abs(omega_y) / vn;
+        assert!(
+            v.x * omega_y > 0.0,
+            "ω_y = {omega_y}: v_x after = {} must have the sign of ω_y (friction against the slip)",
+            v.x
+        );
+        assert!((e.tangential_speed / e.normal_speed - psi1).abs() < 1e-9, "{e:?}");
+        let (expected, _) = psi2_closed_form(psi1, 0.2, 0.3, e.eps, 3.5);
+        // The slip is along −sign(ω_y) x̂: Ψ2 along x carries that sign.
+        let along = -psi2 * omega_y.signum();
+        assert!((along - expected).abs() < 1e-9, "ω_y = {omega_y}: Ψ2 = {along}, closed form {expected}");
+    }
 }
 
 #[test]

@@ -81,12 +81,17 @@ fn history_slows_the_settling_against_the_same_bead_without_it() {
 
 #[test]
 fn memory_columns_exist_only_with_the_history_effect_one_vector_per_mode() {
-    let plain = bead(1e-4, 1e-3, "gravity = {}\ndrag = {}").scene();
-    assert!(plain.particles.memory.is_empty() && plain.particles.memory_modes == 0);
-    let with = bead(1e-4, 1e-3, "gravity = {}\ndrag = {}\nhistory = {}").scene();
-    let modes = with.setup.physics.history.as_ref().unwrap().modes();
-    assert_eq!(with.particles.memory_modes, modes);
-    assert_eq!(with.particles.memory.len(), modes * with.particles.len());
+    let plain = bead(1e-4, 1e-3, "gravity = {}\ndrag = {}").scene().simulation();
+    let p = &plain.world.particles;
+    assert!(p.memory.is_empty() && p.memory_modes == 0);
+    let scene = bead(1e-4, 1e-3, "gravity = {}\ndrag = {}\nhistory = {}").scene();
+    // A loaded (or checked) scene holds no memory: it is allocated when the run starts.
+    assert!(scene.particles.memory.is_empty() && scene.particles.memory_modes == 0);
+    let modes = scene.setup.physics.history.as_ref().unwrap().modes();
+    let with = scene.simulation();
+    let p = &with.world.particles;
+    assert_eq!(p.memory_modes, modes);
+    assert_eq!(p.memory.len(), modes * p.len());
 }
 
 /// A bead dropped onto the floor with history: it bounces, no contact gains energy, its memory

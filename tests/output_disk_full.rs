@@ -152,8 +152,10 @@ fn a_disk_that_fills_mid_run_stops_it_with_each_file_named_and_what_was_written_
     let (mnt, keep) = (dir.path().join("mnt"), dir.path().join("keep"));
     std::fs::create_dir_all(&mnt).unwrap();
     std::fs::create_dir_all(&keep).unwrap();
+    // --allow-large-output: the run is estimated at 1.8 MB, so without it the run would be
+    // refused before it starts (the next test); here the disk must fill mid-run.
     let script = r#"mount -t tmpfs -o size=256k tmpfs "$MNT" || exit 99
-"$BIN" run "$SCENE" --formats mcap,csv --quiet --threads 1 --out "$MNT/o"
+"$BIN" run "$SCENE" --formats mcap,csv --quiet --threads 1 --allow-large-output --out "$MNT/o"
 status=$?
 cp -a "$MNT/o/." "$KEEP/"
 exit $status"#;
@@ -190,4 +192,52 @@ exit $status"#;
     let (topics, report) = recover(&keep.join("pour.mcap"));
     let clouds = topics.get("/particles").map_or(0, Vec::len);
     assert!(clouds >= 1, "{report}");
+}
+
+/// The same 256 KiB tmpfs, without `--allow-large-output`: the run's outputs, estimated at
+/// 1.8 MB, cannot fit, so it is refused before it starts (issue 25, point 12), saying the
+/// estimate and the free space, and writes nothing. Skips where a mount is not allowed.
+#[test]
+fn a_run_whose_estimated_output_exceeds_the_free_disk_space_is_refused_before_it_writes() {
+    let dir = tempfile::tempdir().unwrap();
+    let scene = scene_with("tests/scenes/pour_200.toml", "pour.toml", dir.path(), &[("duration", "0.5")]);
+    let (mnt, keep) = (dir.path().join("mnt"), dir.path().join("keep"));
+    std::fs::create_dir_all(&mnt).unwrap();
+    std::fs::create_dir_all(&keep).unwrap();
+    let script = r#"mount -t tmpfs -o size=256k tmpfs "$MNT" || exit 99
+"$BIN" run "$SCENE" --formats mcap,csv --quiet --threads 1 --out "$MNT/o"
+status=$?
+cp -a "$MNT/o/." "$KEEP/"
+exit $status"#;
+    let out = Command::new("unshare")
+        .args(["-m", "sh", "-c", script])
+        .env("MNT", &mnt)
+        .env("KEEP", &keep)
+        .env("BIN", env!("CARGO_BIN_EXE_wetbounce"))
+        .env("SCENE", &scene)
+        .output();
+    let out = match out {
+        Ok(out)
+            if out.status.code() != Some(99)
+                && !String::from_utf8_lossy(&out.stderr).contains("unshare:") =>
+        {
+            out
+        }
+        other => {
+            eprintln!("skipped: cannot mount a tmpfs in a mount namespace here ({other:?})");
+            return;
+        }
+    };
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(1), "{stderr}");
+    assert!(
+        stderr.contains("pour.toml: the outputs would take 51 frames of up to 200 particles: about 1.76 MB"),
+        "{stderr}"
+    );
+    assert!(
+        stderr.contains("more than the 262 kB free in") && stderr.contains("--allow-large-output"),
+        "{stderr}"
+    );
+    let left: Vec<_> = std::fs::read_dir(&keep).unwrap().collect();
+    assert!(left.is_empty(), "nothing written: {left:?}");
 }

@@ -566,8 +566,11 @@ fn run_length_is_refused_exactly_beyond_the_frame_and_step_limits() {
                     prop_assert_eq!(about_length, too_long, "{}", message);
                 }
             }
-            let allowed =
-                wetbounce::Scene::from_str_with(&mutated, &path, LoadOptions { allow_long_run: true });
+            let allowed = wetbounce::Scene::from_str_with(
+                &mutated,
+                &path,
+                LoadOptions { allow_long_run: true, ..Default::default() },
+            );
             if let Err(e) = allowed {
                 prop_assert!(!e.to_string().contains("more than the 1e"), "{e}");
             }

@@ -1,9 +1,12 @@
 //! Measures the engine state per particle: heap bytes held by a `Simulation` of N particles
 //! after a few steps (columns, scratch, neighbour list), with no output sinks.
 //!
-//! Run: `cargo run --release --bin memory -- [N]` (default 1,000,000). The beads sit on a cubic
-//! lattice at 3 d spacing in a box of water, with gravity, buoyancy, Stokes drag and pair
-//! collisions on — the dilute benchmark scene scaled to N.
+//! Run: `cargo run --release --bin memory -- [N] [history]` (default 1,000,000). The beads sit
+//! on a cubic lattice at 3 d spacing in a box of water, with gravity, buoyancy, Stokes drag and
+//! pair collisions on — the dilute benchmark scene scaled to N; with `history`, also the history
+//! effect at its defaults. It prints the bytes the loaded scene holds (what `wetbounce check`
+//! allocates) and those of the running simulation (the scene's particles moved into it, as
+//! `wetbounce run` does).
 
 use std::alloc::{GlobalAlloc, Layout, System};
 use std::path::Path;
@@ -39,6 +42,7 @@ fn main() {
             std::process::exit(2)
         })
     });
+    let history = std::env::args().nth(2).is_some_and(|a| a == "history");
     let side = (n as f64).cbrt().ceil() as usize;
     let (d, spacing) = (2.5e-3, 7.5e-3);
     let extent = side as f64 * spacing;
@@ -56,6 +60,7 @@ viscosity = 0.1
 gravity = {{}}
 buoyancy = {{}}
 drag = {{ law = "stokes" }}
+{history}
 [[kinds]]
 name = "glass"
 type = "solid"
@@ -75,14 +80,20 @@ min = [0.0, 0.0, 0.0]
 max = [{extent}, {extent}, {extent}]
 spacing = {spacing}
 "#,
-        top = extent * 1.2
+        top = extent * 1.2,
+        history = if history { "history = {}" } else { "" }
     );
     let before = LIVE.load(Ordering::Relaxed);
-    let scene = Scene::from_str(&text, Path::new("memory.toml")).unwrap_or_else(|e| {
+    let mut scene = Scene::from_str(&text, Path::new("memory.toml")).unwrap_or_else(|e| {
         eprintln!("error: {e}");
         std::process::exit(1)
     });
-    let mut sim = scene.simulation();
+    let loaded = LIVE.load(Ordering::Relaxed).saturating_sub(before);
+    let estimate = scene.estimate.bytes_per_particle;
+    let mut sim = scene.take_simulation().unwrap_or_else(|e| {
+        eprintln!("error: {e}");
+        std::process::exit(1)
+    });
     drop(scene);
     for _ in 0..3 {
         sim.step(8.77e-6);
@@ -90,7 +101,10 @@ spacing = {spacing}
     let bytes = LIVE.load(Ordering::Relaxed).saturating_sub(before);
     let count = sim.world.particles.len();
     println!(
-        "N = {count}: {:.1} MB of engine state, {:.1} bytes per particle",
+        "N = {count}{}: loaded scene {:.1} bytes per particle; running: {:.1} MB of engine state, {:.1} bytes \
+         per particle (estimate used by check: {estimate:.0})",
+        if history { " with history" } else { "" },
+        loaded as f64 / count as f64,
         bytes as f64 / 1e6,
         bytes as f64 / count as f64
     );

@@ -214,7 +214,15 @@ pub struct Simulation {
 
 impl Simulation {
     /// A simulation at time 0 of `particles` under `setup`.
-    pub fn new(setup: Setup, particles: Particles) -> Self {
+    pub fn new(setup: Setup, mut particles: Particles) -> Self {
+        if let Some(kernel) = &setup.physics.history
+            && particles.memory_modes == 0
+        {
+            // One memory per particle, allocated only here, when a run starts (PHYSICS.md §10):
+            // a scene that is only checked never holds it.
+            particles.memory_modes = kernel.modes();
+            particles.memory.resize(particles.len() * kernel.modes(), glam::DVec3::ZERO);
+        }
         let next_id = particles.id.iter().max().map_or(0, |&i| i + 1);
         let world = World {
             particles,
@@ -224,6 +232,24 @@ impl Simulation {
         };
         let record = Record { removed: vec![Vec::new(); setup.outlets.len()], ..Record::default() };
         Simulation { world, setup, record, scratch: Scratch::default() }
+    }
+
+    /// [`Simulation::new`], with the history effect's two memories (the particles' and the
+    /// step's end-of-step copy) reserved first, so that a machine that cannot give them is an
+    /// error rather than an abort.
+    pub fn try_new(
+        setup: Setup,
+        mut particles: Particles,
+    ) -> Result<Self, std::collections::TryReserveError> {
+        let need = setup.physics.history.as_ref().map_or(0, |k| particles.len() * k.modes());
+        if particles.memory_modes == 0 {
+            particles.memory.try_reserve_exact(need)?;
+        }
+        let mut end_of_step = Vec::new();
+        end_of_step.try_reserve_exact(need)?;
+        let mut sim = Simulation::new(setup, particles);
+        sim.scratch.next.memory = end_of_step;
+        Ok(sim)
     }
 
     /// Steps with `Δt` until `t_end`, shortening the last step to land on it exactly, so that

@@ -15,7 +15,9 @@
 //! [`super::stiffness::FlowScales`]): the time the fastest fluid takes to cross the smallest
 //! cell, `Δx_min / |u|_max`, over which the interpolated velocity a particle sees changes by a
 //! cell's worth (accuracy), and `1 / |∇u|_max`, the flow's own rate (accuracy, and the stability
-//! limit the loader checks).
+//! limit the loader checks). An unsteady field adds the shortest interval between two successive
+//! snapshots (the wrap from the last back to the first of a periodic series included), over
+//! which the flow and its `∂u/∂t` change from one pair of snapshots to the next.
 //!
 //! The smallest of them all, `T`, sets `Δt = T / N`, with `N` and the integrator fixed per
 //! setting. `N` was calibrated with the work–precision study (`docs/accuracy.md`) so that on
@@ -123,16 +125,28 @@ pub fn auto_step(scene: &Scene, accuracy: Accuracy) -> Result<AutoStep, String> 
         }
     }
     if let Some(f) = flow_time_scales(&scene.setup.fluid.flow) {
+        let s = f.snapshots;
         let scales = [
             (
                 f.crossing,
-                "time for the fastest fluid to cross the smallest cell of the flow field, dx_min/|u|_max",
+                "time for the fastest fluid to cross the smallest cell of the flow field, dx_min/|u|_max"
+                    .to_string(),
             ),
-            (f.shear, "inverse of the largest velocity gradient of the flow field, 1/|du_i/dx_j|_max"),
+            (
+                f.shear,
+                "inverse of the largest velocity gradient of the flow field, 1/|du_i/dx_j|_max".to_string(),
+            ),
+            (
+                s.length,
+                format!(
+                    "shortest interval between the flow field's snapshots, from t = {} s to {} s",
+                    s.from, s.to
+                ),
+            ),
         ];
         for (t, why) in scales {
             if t.is_finite() && t > 0.0 && best.as_ref().is_none_or(|(b, _)| t < *b) {
-                best = Some((t, why.to_string()));
+                best = Some((t, why));
             }
         }
     }

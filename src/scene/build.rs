@@ -168,8 +168,19 @@ pub(super) fn build(
         ));
     }
 
+    // The run's cost, from counts, before any particle is placed: a scene whose run cannot fit
+    // in memory is refused before it allocates its own particles.
+    let (estimate, estimate_inputs) = super::estimate::estimate(
+        &file,
+        (duration, output_interval),
+        physics.history.as_ref().map_or(0, |k| k.modes()),
+        &fluid.flow,
+    );
+    if !options.allow_large_memory {
+        super::estimate::check_memory(&estimate, super::estimate::available_memory())?;
+    }
     let mut particles = Particles::default();
-    let origins = fill::add_particles(&file, &kinds, &walls, &mut particles)?;
+    let origins = fill::add_particles(&file, &kinds, &walls, physics.rotation, &mut particles)?;
     fill::check_clear_of_walls(&origins, &particles, &walls)?;
     overlap::check_no_overlap(&origins, &particles)?;
     let injectors = flux::build_injectors(&file.injectors, &kinds, &walls, duration)?;
@@ -193,6 +204,8 @@ pub(super) fn build(
         auto_step: None,
         setup,
         particles,
+        estimate,
+        estimate_inputs,
     };
     if sim.dt == DtSpec::Auto {
         let auto = auto_step(&scene, sim.accuracy.unwrap_or_default())
@@ -211,11 +224,9 @@ pub(super) fn build(
         p.tet = vec![crate::particles::NO_TET; p.len()];
     }
     if let Some(kernel) = &scene.setup.physics.history {
+        // The memory itself is allocated when a run starts (`Simulation::new`), not here: a
+        // scene that is only checked never holds it.
         check_history_window(kernel, scene.setup.dt)?;
-        // One memory per particle, allocated only here (PHYSICS.md §10).
-        let p = &mut scene.particles;
-        p.memory_modes = kernel.modes();
-        p.memory = vec![glam::DVec3::ZERO; p.len() * kernel.modes()];
     }
     if !options.allow_long_run {
         run_length(duration, output_interval, scene.setup.dt).map_err(|e| {
@@ -449,6 +460,7 @@ fn check_stable_step(setup: &Setup, particles: &Particles) -> Result<(), Invalid
 fn check_stable_in_flow(setup: &Setup) -> Result<(), Invalid> {
     let Setup { dt, integrator, .. } = *setup;
     let Some(rate) = flow_rate(&setup.physics, &setup.fluid) else { return Ok(()) };
+    check_step_within_snapshots(setup)?;
     let interval = match integrator {
         IntegratorKind::Exponential => 2.0,
         _ => integrator.stability_interval(),
@@ -475,6 +487,40 @@ fn check_stable_in_flow(setup: &Setup) -> Result<(), Invalid> {
             } else {
                 ""
             },
+        ),
+    ))
+}
+
+/// In an unsteady field that acts on the particles, a step may not be longer than the shortest
+/// interval between two snapshots: the flow is linear in time only between two of them, and
+/// `∂u/∂t` (the fluid-acceleration effect) is the slope of the pair around the time asked, so a
+/// longer step samples the series at points that skip whole snapshots and integrates an
+/// aliased flow (a field of period 2e-7 s stepped at 1e-4 s bounced a bead 52 times where the
+/// resolved run has no contact). Not a stability limit: the refusal is at the interval itself,
+/// and `dt = "auto"` takes a fraction of it as one of its time scales.
+fn check_step_within_snapshots(setup: &Setup) -> Result<(), Invalid> {
+    let Some(field) = setup.fluid.flow.field() else { return Ok(()) };
+    let s = super::stiffness::shortest_snapshot_interval(field);
+    if setup.dt <= s.length {
+        return Ok(());
+    }
+    Err(Invalid::new(
+        "simulation.dt",
+        format!(
+            "{} s is longer than the shortest interval between the flow field's snapshots, {} s \
+             (from t = {} s to {} s{}): a step would pass over snapshots, and the flow and its \
+             time derivative would be sampled out of step with the series; use dt <= {} s, or \
+             dt = \"auto\"",
+            num(setup.dt),
+            num(s.length),
+            num(s.from),
+            num(s.to),
+            if field.period.is_some() && s.to > field.snapshots[field.snapshots.len() - 1].time {
+                ", the wrap of the periodic series back to its first snapshot"
+            } else {
+                ""
+            },
+            num(s.length),
         ),
     ))
 }

@@ -23,6 +23,40 @@ const MAX_PARTICLES: usize = 50_000_000;
 /// two it fails, but fast ([`place_random`] stops when it can no longer finish).
 const MAX_RANDOM_FILL_FRACTION: f64 = 0.64;
 
+/// `particles[i].angular_velocity` **[ext]**: a finite ω whose surface speed `|ω| d/2` is a
+/// speed of the scene's range, and only in a scene with rotation (the rotation effect or a
+/// friction key). Without rotation the spin is neither integrated nor read by any contact, so
+/// a value given would be silently unused: it is refused.
+fn angular_velocity(key: &str, w: Vec3Spec, d: f64, rotation: bool) -> Result<DVec3, Invalid> {
+    let omega = check::vector(key, w)?;
+    if !rotation {
+        return Err(Invalid::new(
+            key,
+            format!(
+                "needs rotation (the `rotation` effect, or a friction key on a kind or a wall's \
+                 material): without it a particle's spin is neither integrated nor used by its contacts, \
+                 got {}",
+                vec3(w.0)
+            ),
+        ));
+    }
+    let surface = check::length(omega) * 0.5 * d;
+    SPEED.check_magnitude(
+        key,
+        surface,
+        &format!("{} rad/s (surface speed |ω| d/2 = {} m/s)", vec3(w.0), num(surface)),
+    )?;
+    Ok(omega)
+}
+
+/// Particles per axis of a lattice from `lo` to `hi` at `spacing`: `floor((hi − lo)/a − ½) + 1`
+/// centres per axis, none on an axis where that is negative or not a number.
+pub(super) fn lattice_counts(lo: DVec3, hi: DVec3, spacing: f64) -> DVec3 {
+    let n = ((hi - lo) / spacing - 0.5).floor() + 1.0;
+    // NaN (a NaN bound or spacing) counts as 0: the loader refuses it with its own message.
+    DVec3::new(n.x.max(0.0), n.y.max(0.0), n.z.max(0.0))
+}
+
 /// Where each group of initial particles came from: `(first index, scene key)`.
 pub(super) type Origins = Vec<(usize, String)>;
 
@@ -31,6 +65,7 @@ pub(super) fn add_particles(
     file: &SceneFile,
     kinds: &[ParticleKind],
     walls: &[Wall],
+    rotation: bool,
     p: &mut Particles,
 ) -> Result<Origins, Invalid> {
     let mut origins = Origins::new();
@@ -51,7 +86,11 @@ pub(super) fn add_particles(
         let x = check::point(&k("position"), s.position)?;
         let v = check::magnitude_in(&k("velocity"), s.velocity, &SPEED)?;
         origins.push((p.len(), k("position")));
+        let i = p.len();
         push(p, kind, d, x, v);
+        if let Some(w) = s.angular_velocity {
+            p.omega[i] = angular_velocity(&k("angular_velocity"), w, d, rotation)?;
+        }
     }
     for (i, s) in file.lattice.iter().enumerate() {
         let k = |f: &str| format!("lattice[{i}].{f}");
@@ -66,8 +105,7 @@ pub(super) fn add_particles(
             ));
         }
         let v = check::magnitude_in(&k("velocity"), s.velocity, &SPEED)?;
-        let n = ((hi - lo) / a - 0.5).floor() + 1.0;
-        let n = n.max(DVec3::ZERO);
+        let n = lattice_counts(lo, hi, a);
         if n.x * n.y * n.z + p.len() as f64 > MAX_PARTICLES as f64 {
             return Err(Invalid::new(
                 k("spacing"),

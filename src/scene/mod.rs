@@ -6,6 +6,7 @@
 pub mod accuracy;
 mod build;
 mod error;
+pub mod estimate;
 mod field;
 mod fill;
 mod flux;
@@ -45,6 +46,10 @@ pub struct Scene {
     pub setup: Setup,
     /// Initial particles.
     pub particles: Particles,
+    /// What the run will cost: memory and output bytes, from counts.
+    pub estimate: estimate::RunEstimate,
+    /// What the estimate's frame count needs, for another output interval.
+    pub estimate_inputs: estimate::EstimateInputs,
 }
 
 /// What loading may accept that it refuses by default.
@@ -53,6 +58,9 @@ pub struct LoadOptions {
     /// Accept a run of more than [`MAX_FRAMES`] output frames or [`MAX_STEPS`] time steps
     /// (`wetbounce run --allow-long-run`).
     pub allow_long_run: bool,
+    /// Accept a run whose estimated memory ([`estimate::RunEstimate::memory_bytes`]) is over
+    /// the memory available on this machine (`wetbounce run --allow-large-memory`).
+    pub allow_large_memory: bool,
 }
 
 impl Scene {
@@ -93,8 +101,26 @@ impl Scene {
             })
     }
 
-    /// The simulation at time 0.
+    /// The simulation at time 0. Allocation failures abort, as for any `Vec`; a caller that
+    /// must report them uses [`Scene::try_simulation`].
     pub fn simulation(&self) -> Simulation {
         Simulation::new(self.setup.clone(), self.particles.clone())
+    }
+
+    /// The simulation at time 0, taking the scene's particles (the scene keeps none, so that a
+    /// run does not hold two copies of them), with the history memory reserved first: when the
+    /// machine cannot give it, an error naming the scene file and the key that sizes the run,
+    /// not an abort.
+    pub fn take_simulation(&mut self) -> Result<Simulation, SceneError> {
+        let particles = std::mem::take(&mut self.particles);
+        Simulation::try_new(self.setup.clone(), particles).map_err(|_| SceneError::Invalid {
+            file: self.path.clone(),
+            key: self.estimate.key.clone(),
+            message: format!(
+                "cannot allocate the run's memory, about {} ({})",
+                estimate::bytes(self.estimate.memory_bytes()),
+                estimate::memory_breakdown(&self.estimate)
+            ),
+        })
     }
 }

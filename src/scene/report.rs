@@ -156,9 +156,13 @@ pub fn field_report(scene: &Scene) -> Vec<String> {
     if f.snapshots.len() > 1 {
         let (t0, t1) = (f.snapshots[0].time, f.snapshots[f.snapshots.len() - 1].time);
         let period = f.period.map_or("held at the ends".to_string(), |p| format!("periodic, period {p} s"));
+        let s = super::stiffness::shortest_snapshot_interval(f);
         out.push(format!(
-            "  {} snapshots from t = {t0} to {t1} s, linear in time, {period}",
-            f.snapshots.len()
+            "  {} snapshots from t = {t0} to {t1} s, linear in time, {period}; shortest interval {:.4e} s \
+             (dt is {:.3} of it)",
+            f.snapshots.len(),
+            s.length,
+            scene.setup.dt / s.length
         ));
     }
     out.push(format!("  outside the field: {}", f.outside.name()));

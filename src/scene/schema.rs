@@ -395,6 +395,8 @@ pub struct ParticleSpec {
     pub position: Vec3Spec,
     #[serde(default)]
     pub velocity: Vec3Spec,
+    /// Initial angular velocity ω (rad/s) **[ext]**: only in a scene with rotation.
+    pub angular_velocity: Option<Vec3Spec>,
 }
 
 #[derive(Debug, Clone, Deserialize)]

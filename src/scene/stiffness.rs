@@ -141,16 +141,54 @@ pub struct FlowScales {
     /// stability scale: a particle that follows the flow (`τ |∇u| ≪ 1`) moves as `x' = u(x)`,
     /// whose linearisation has eigenvalues of size `|∇u|` (a compressional strain `−|∇u|`).
     pub shear: f64,
+    /// The shortest interval between two successive snapshots of an unsteady field (s), the
+    /// wrap from the last back to the first of a periodic series included; infinite for a
+    /// steady field. An accuracy scale, and a limit on any step: the field is linear in time
+    /// only between two snapshots, and `∂u/∂t` (fluid acceleration) is the slope of the pair
+    /// around the time asked, so a step longer than an interval samples the series at points
+    /// that miss whole snapshots, and integrates an aliased flow.
+    pub snapshots: SnapshotInterval,
+}
+
+/// The shortest interval between successive snapshots of a field: its length (s) and the
+/// times (s) of the two snapshots (for a periodic series' wrap, the last's and the first's
+/// plus the period).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct SnapshotInterval {
+    /// Its length (s); infinite for a steady field.
+    pub length: f64,
+    /// The time of the snapshot it starts at (s).
+    pub from: f64,
+    /// The time of the snapshot it ends at (s).
+    pub to: f64,
 }
 
 /// [`FlowScales`] of `flow`, or `None` for an analytic flow; a still field has infinite ones.
 pub fn flow_time_scales(flow: &Flow) -> Option<FlowScales> {
-    let i = &flow.field()?.info;
+    let field = flow.field()?;
+    let i = &field.info;
     let fast = i.speed_range.1;
     Some(FlowScales {
         crossing: if fast > 0.0 { i.spacing.0 / fast } else { f64::INFINITY },
         shear: if i.largest_gradient > 0.0 { 1.0 / i.largest_gradient } else { f64::INFINITY },
+        snapshots: shortest_snapshot_interval(field),
     })
+}
+
+/// [`SnapshotInterval`] of `field`.
+pub fn shortest_snapshot_interval(field: &crate::fluid::field::Field) -> SnapshotInterval {
+    let times: Vec<f64> = field.snapshots.iter().map(|s| s.time).collect();
+    let mut pairs: Vec<(f64, f64)> = times.windows(2).map(|w| (w[0], w[1])).collect();
+    if let (Some(p), Some(&first), Some(&last)) = (field.period, times.first(), times.last()) {
+        // After the last snapshot the series goes back to the first, at first + period.
+        pairs.push((last, first + p));
+    }
+    pairs.into_iter().fold(
+        SnapshotInterval { length: f64::INFINITY, from: f64::NAN, to: f64::NAN },
+        |best, (from, to)| {
+            if to - from < best.length { SnapshotInterval { length: to - from, from, to } } else { best }
+        },
+    )
 }
 
 /// The largest rate (1/s) at which a field flow feeds a particle's position back into its
