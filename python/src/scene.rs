@@ -44,11 +44,12 @@ impl Scene {
 impl Scene {
     /// Reads and validates the scene file at ``path`` (mesh files are found relative to its
     /// folder). ``allow_long_run`` accepts more than 10⁷ output frames or 10¹⁰ steps, like
-    /// ``wetbounce run --allow-long-run``.
+    /// ``wetbounce run --allow-long-run``; ``allow_large_memory`` a run whose estimated memory
+    /// exceeds the machine's available memory, like ``--allow-large-memory``.
     #[staticmethod]
-    #[pyo3(signature = (path, *, allow_long_run = false))]
-    fn load(path: PathBuf, allow_long_run: bool) -> PyResult<Scene> {
-        let options = LoadOptions { allow_long_run };
+    #[pyo3(signature = (path, *, allow_long_run = false, allow_large_memory = false))]
+    fn load(path: PathBuf, allow_long_run: bool, allow_large_memory: bool) -> PyResult<Scene> {
+        let options = LoadOptions { allow_long_run, allow_large_memory };
         let scene = wetbounce::Scene::load_with(&path, options).map_err(|e| scene_error(&e))?;
         // The file parsed as a scene, so it parses as TOML.
         let doc: Table = toml::from_str(&scene.source).map_err(|e| PyValueError::new_err(e.to_string()))?;
@@ -62,15 +63,16 @@ impl Scene {
     /// or anything with ``tolist()`` (NumPy arrays); a value ``None`` is a key left out. Mesh
     /// files are found relative to ``base_dir`` (default: the working directory).
     #[staticmethod]
-    #[pyo3(signature = (scene, *, base_dir = None, allow_long_run = false))]
+    #[pyo3(signature = (scene, *, base_dir = None, allow_long_run = false, allow_large_memory = false))]
     fn from_dict(
         scene: &Bound<'_, PyDict>,
         base_dir: Option<PathBuf>,
         allow_long_run: bool,
+        allow_large_memory: bool,
     ) -> PyResult<Scene> {
         let doc = convert::dict_to_table(scene, "")?;
         let label = base_dir.map_or_else(|| PathBuf::from(DICT_NAME), |d| d.join(DICT_NAME));
-        Scene::from_doc(doc, &label, LoadOptions { allow_long_run })
+        Scene::from_doc(doc, &label, LoadOptions { allow_long_run, allow_large_memory })
     }
 
     /// A new scene with the keys of ``changes`` set, validated again; the keys are the paths

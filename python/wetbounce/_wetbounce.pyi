@@ -32,7 +32,9 @@ class Scene:
     """A scene, loaded and validated as ``wetbounce run`` and ``wetbounce check`` load one."""
 
     @staticmethod
-    def load(path: str | PathLike[str], *, allow_long_run: bool = False) -> Scene:
+    def load(
+        path: str | PathLike[str], *, allow_long_run: bool = False, allow_large_memory: bool = False
+    ) -> Scene:
         """Reads and validates the scene file at ``path``."""
 
     @staticmethod
@@ -41,6 +43,7 @@ class Scene:
         *,
         base_dir: str | PathLike[str] | None = None,
         allow_long_run: bool = False,
+        allow_large_memory: bool = False,
     ) -> Scene:
         """Validates a scene given as a dict with a scene file's structure; messages name the
         file ``<dict>``."""
