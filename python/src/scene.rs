@@ -2,7 +2,7 @@
 
 use crate::convert;
 use crate::errors::scene_error;
-use crate::sim::Simulation;
+use crate::sim::{Simulation, html_escape, html_table};
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList};
@@ -213,6 +213,23 @@ impl Scene {
         let mut sim = Simulation::new(self);
         sim.run(py, out, formats, output_interval, max_spheres, name)?;
         Ok(sim)
+    }
+
+    /// A summary table for Jupyter: the file, the time and step, the fluid, kinds, walls,
+    /// particles, injectors and outlets.
+    fn _repr_html_(&self) -> String {
+        let s = &self.scene;
+        let names = |v: Vec<&str>| html_escape(&v.join(", "));
+        let rows = [
+            ("scene", html_escape(&s.path.display().to_string())),
+            ("duration", format!("{} s, output every {} s", s.duration, s.output_interval)),
+            ("step", format!("dt = {} s, {}", s.setup.dt, s.setup.integrator.name())),
+            ("kinds", names(s.setup.kinds.iter().map(|k| k.name.as_str()).collect())),
+            ("walls", names(s.setup.walls.iter().map(|w| w.name.as_str()).collect())),
+            ("particles at t = 0", s.particles.len().to_string()),
+            ("injectors, outlets", format!("{}, {}", s.setup.injectors.len(), s.setup.outlets.len())),
+        ];
+        html_table("wetbounce.Scene", &rows)
     }
 
     fn __repr__(&self) -> String {

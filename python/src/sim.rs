@@ -401,6 +401,59 @@ impl Simulation {
         PyArray1::from_slice(py, &self.sim.world.particles.kind)
     }
 
+    /// The particles now, one row each, in the engine's order: ``id``, ``kind`` (its name),
+    /// ``diameter`` (m), ``x``, ``y``, ``z`` (m), ``vx``, ``vy``, ``vz`` (m/s), ``state``
+    /// (``free``, ``held``, ``resting``) and, in a scene with rotation, ``wx``, ``wy``, ``wz``
+    /// (rad/s): a frame of ``trajectories.csv`` with the kind and the diameter. A pandas
+    /// DataFrame, a copy.
+    fn particles<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
+        let p = &self.sim.world.particles;
+        let kinds = &self.sim.setup.kinds;
+        let d = PyDict::new(py);
+        let component =
+            |v: &[glam::DVec3], axis: usize| PyArray1::from_vec(py, v.iter().map(|x| x[axis]).collect());
+        d.set_item("id", PyArray1::from_slice(py, &p.id))?;
+        d.set_item("kind", p.kind.iter().map(|&k| kinds[k as usize].name.as_str()).collect::<Vec<_>>())?;
+        d.set_item("diameter", PyArray1::from_slice(py, &p.diameter))?;
+        for (axis, name) in ["x", "y", "z"].into_iter().enumerate() {
+            d.set_item(name, component(&p.pos, axis))?;
+        }
+        for (axis, name) in ["vx", "vy", "vz"].into_iter().enumerate() {
+            d.set_item(name, component(&p.vel, axis))?;
+        }
+        d.set_item("state", p.state.iter().map(|s| s.name()).collect::<Vec<_>>())?;
+        // The spin columns as trajectories.csv has them: only in a scene with rotation.
+        if self.sim.setup.physics.rotation {
+            for (axis, name) in ["wx", "wy", "wz"].into_iter().enumerate() {
+                d.set_item(name, component(&p.omega, axis))?;
+            }
+        }
+        py.import("pandas")?.getattr("DataFrame")?.call1((d,))
+    }
+
+    /// A summary table for Jupyter: the scene, the time reached, the steps, the particles by
+    /// state and the contacts so far.
+    fn _repr_html_(&self) -> String {
+        let p = &self.sim.world.particles;
+        let count = |code: u8| p.state.iter().filter(|s| s.code() == code).count();
+        let rows = [
+            ("scene", html_escape(&self.scene_path.display().to_string())),
+            (
+                "time",
+                format!(
+                    "{} s of {} s ({:.0} %)",
+                    self.sim.world.time,
+                    self.duration,
+                    100.0 * self.sim.world.time / self.duration
+                ),
+            ),
+            ("steps", format!("{} (dt = {} s)", self.sim.world.steps, self.sim.setup.dt)),
+            ("particles", format!("{}: {} free, {} held, {} resting", p.len(), count(0), count(1), count(2))),
+            ("contacts so far", self.collected.rows.len().to_string()),
+        ];
+        html_table("wetbounce.Simulation", &rows)
+    }
+
     /// The scene's particle kinds, by index.
     #[getter]
     fn kind_names(&self) -> Vec<String> {
@@ -589,4 +642,26 @@ impl Simulation {
             self.sim.world.steps
         )
     }
+}
+
+/// `s` with the five characters HTML gives a meaning escaped.
+pub fn html_escape(s: &str) -> String {
+    s.replace('&', "&amp;")
+        .replace('<', "&lt;")
+        .replace('>', "&gt;")
+        .replace('"', "&quot;")
+        .replace('\'', "&#39;")
+}
+
+/// A two-column HTML table with a caption, for `_repr_html_`: the row names are ours, the
+/// values already escaped.
+pub fn html_table(caption: &str, rows: &[(&str, String)]) -> String {
+    let mut html = format!("<table><caption style=\"text-align:left\"><b>{caption}</b></caption>");
+    for (name, value) in rows {
+        html.push_str(&format!(
+            "<tr><th style=\"text-align:left\">{name}</th><td style=\"text-align:left\">{value}</td></tr>"
+        ));
+    }
+    html.push_str("</table>");
+    html
 }

@@ -522,3 +522,37 @@ def test_the_stubs_name_what_the_module_has():
         for m in public:
             assert getattr(cls, m).__doc__, (name, m)
     assert {"Scene", "Simulation", "SceneError", "OutputError"} <= set(stub_classes)
+
+
+def test_particles_is_a_frame_of_trajectories_csv_with_kind_and_diameter(tmp_path):
+    """Simulation.particles() at an output time holds the rows trajectories.csv has for it."""
+    scene = short_heap()
+    scene.run(tmp_path, formats=["csv"])
+    trajectories = pd.read_csv(tmp_path / "trajectories.csv")
+    sim = scene.simulation()
+    for t in sorted(trajectories["t"].unique()):  # the CLI's steps: every output time in turn
+        sim.advance_to(t)
+    assert sim.time == 0.3
+    now = sim.particles()
+    assert list(now.columns) == ["id", "kind", "diameter", "x", "y", "z", "vx", "vy", "vz", "state", "wx", "wy", "wz"]
+    assert len(now) == len(sim) > 0
+    rows = trajectories[trajectories["t"] == 0.3].set_index("id").loc[now["id"]]
+    for column in ("x", "y", "z", "vx", "vy", "vz", "wx", "wy", "wz"):
+        np.testing.assert_array_equal(now[column].to_numpy(), rows[column].to_numpy(), err_msg=column)
+    assert list(now["state"]) == list(rows["state"])
+    assert set(now["kind"]) <= set(sim.kind_names)
+    np.testing.assert_array_equal(now["diameter"].to_numpy(), sim.diameters)
+    # Without rotation there are no spin columns, as in trajectories.csv.
+    plain = wb.Scene.load(TOLUENE).simulation().particles()
+    assert list(plain.columns)[-1] == "state"
+
+
+def test_scene_and_simulation_show_a_summary_table_in_jupyter():
+    scene = wb.Scene.load(TOLUENE)
+    html = scene._repr_html_()
+    assert html.startswith("<table>") and "toluene_drop.toml" in html and "rk2" in html
+    sim = scene.simulation()
+    sim.advance_to(0.1)
+    html = sim._repr_html_()
+    assert "0.1 s of 1 s" in html and "1: " in html and "</table>" in html
+

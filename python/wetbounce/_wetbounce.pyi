@@ -78,6 +78,9 @@ class Scene:
     def dt(self) -> float:
         """The time step (s), the chosen one with ``dt = "auto"``."""
 
+    def _repr_html_(self) -> str:
+        """A summary table for Jupyter."""
+
     def check(self) -> dict[str, Any]:
         """What ``wetbounce check`` prints, as data; ``"kinds"`` is a list of dicts, one per
         kind and diameter."""
@@ -179,6 +182,13 @@ class Simulation:
         """The first particle found outside a flow field with ``outside = "error"``: ``id``,
         ``position`` (m), ``t`` (s), ``message``; ``None`` if none. ``run()`` stops there;
         ``advance_to`` goes on, so check this after it."""
+
+    def particles(self) -> pd.DataFrame:
+        """The particles now: ``id``, ``kind`` (name), ``diameter``, ``x``, ``y``, ``z``,
+        ``vx``, ``vy``, ``vz``, ``state`` and, with rotation, ``wx``, ``wy``, ``wz``."""
+
+    def _repr_html_(self) -> str:
+        """A summary table for Jupyter."""
 
     def events(self) -> pd.DataFrame:
         """Every contact so far: the columns and rows of ``events.csv``, with
