@@ -352,6 +352,16 @@ fn check_scene(path: &Path, options: LoadOptions) -> Result<String, String> {
             a.time_scale,
             a.limited_by
         );
+        // A microsecond step from a Hertz time: usually solid beads held by a contact-time
+        // effect meant for the drops beside them (issue 30, item 6).
+        if a.dt < 1e-5 && a.limited_by.starts_with("contact time") {
+            let _ = writeln!(
+                text,
+                "warning: dt = {:.3e} s comes from the {}; if only some kinds need holding at \
+                 contact (drops, not solid beads), name them: contact_time = {{ kinds = [..] }}",
+                a.dt, a.limited_by
+            );
+        }
     }
     if scene.setup.impact_location != wetbounce::contact::ImpactLocation::InStep {
         let _ = writeln!(text, "  impact location: {}", scene.setup.impact_location.name());

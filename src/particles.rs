@@ -35,6 +35,9 @@ pub struct ParticleKind {
     pub roughness: f64,
     /// Friction keys of the kind **[ext]** (PHYSICS.md §9); all `None` when not given.
     pub friction: FrictionMaterial,
+    /// Held at a wall (or in a pair) for its contact time when it rebounds: the contact-time
+    /// effect names it, or names no kind (PHYSICS.md §5.3). False without the effect.
+    pub held_at_contact: bool,
 }
 
 /// The friction keys of one surface (a particle kind or a wall) **[ext]**, PHYSICS.md §9: each

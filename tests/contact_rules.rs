@@ -106,3 +106,116 @@ fn bead_inside_a_cylinder_grazing_at_89_degrees_stays_inside() {
     // Vacuum, ε_max = 1: speed kept.
     assert!((sim.world.particles.vel[0].length() - 1.0).abs() < 1e-6);
 }
+
+/// Toluene drops rising to a lid and glass beads falling to a floor in one water column, with
+/// `contact_time` given `effects` (issue 30, item 6).
+fn mixed(contact_time: &str, dt: &str) -> Result<wetbounce::Scene, wetbounce::scene::SceneError> {
+    let text = format!(
+        r#"
+[simulation]
+dt = {dt}
+duration = 0.6
+output_interval = 0.01
+[fluid]
+density = 997.0
+viscosity = 0.89e-3
+[effects]
+gravity = {{}}
+buoyancy = {{}}
+drag = {{}}
+added_mass = {{}}
+contact_time = {contact_time}
+[[kinds]]
+name = "toluene"
+type = "drop"
+density = 860.0
+surface_tension = 0.026
+restitution_max = 0.91
+[[kinds]]
+name = "glass"
+type = "solid"
+density = 2500.0
+youngs_modulus = 6e10
+poisson_ratio = 0.23
+restitution_max = 0.97
+[[walls]]
+name = "lid"
+type = "plane"
+point = [0.0, 0.0, 0.05]
+normal = [0.0, 0.0, -1.0]
+[[walls]]
+name = "floor"
+type = "plane"
+point = [0.0, 0.0, 0.0]
+normal = [0.0, 0.0, 1.0]
+[[particles]]
+kind = "toluene"
+diameter = 2.75e-3
+position = [0.0, 0.0, 0.0225]
+[[particles]]
+kind = "glass"
+diameter = 3e-3
+position = [0.01, 0.0, 0.0275]
+"#
+    );
+    wetbounce::Scene::from_str(&text, std::path::Path::new("mixed.toml"))
+}
+
+#[test]
+fn contact_time_naming_the_drops_holds_them_and_lets_the_beads_rebound_at_once() {
+    let scene = mixed(r#"{ kinds = ["toluene"] }"#, "1e-4").unwrap();
+    let mut sim = scene.simulation();
+    let events = common::run_collect(&mut sim, scene.duration);
+    let of = |id: u32| events.iter().filter(move |e| e.id == id && e.st >= 10.0).collect::<Vec<_>>();
+    let (drop, bead) = (of(0), of(1));
+    assert!(!drop.is_empty() && !bead.is_empty(), "{events:#?}");
+    assert!(drop.iter().all(|e| e.outcome == Outcome::Held), "{drop:#?}");
+    assert!(bead.iter().all(|e| e.outcome == Outcome::Bounced), "{bead:#?}");
+    // Every kind held when none is named: the bead is held for its Hertz time too.
+    let scene = mixed("{}", "1e-4").unwrap();
+    let mut sim = scene.simulation();
+    let events = common::run_collect(&mut sim, scene.duration);
+    assert!(events.iter().filter(|e| e.id == 1 && e.st >= 10.0).all(|e| e.outcome == Outcome::Held));
+}
+
+#[test]
+fn auto_step_takes_a_contact_time_only_from_the_kinds_held() {
+    let all = mixed("{}", "\"auto\"").unwrap();
+    let drops = mixed(r#"{ kinds = ["toluene"] }"#, "\"auto\"").unwrap();
+    let (a, d) = (all.auto_step.as_ref().unwrap(), drops.auto_step.as_ref().unwrap());
+    // Holding the beads bound Δt to their microsecond Hertz time.
+    assert!(a.limited_by.contains("contact time") && a.limited_by.contains("glass"), "{}", a.limited_by);
+    assert!(a.dt < 1e-5, "{}", a.dt);
+    assert!(!d.limited_by.contains("glass d") || !d.limited_by.contains("contact time"), "{}", d.limited_by);
+    assert!(d.dt > 10.0 * a.dt, "{} against {}", d.dt, a.dt);
+}
+
+#[test]
+fn contact_time_naming_an_unknown_kind_is_refused_naming_the_entry() {
+    let e = mixed(r#"{ kinds = ["toluene", "water"] }"#, "1e-4").unwrap_err();
+    assert_eq!(e.key(), "effects.contact_time.kinds[1]", "{e}");
+    assert!(e.to_string().contains("unknown kind \"water\"") && e.to_string().contains("glass"), "{e}");
+    let e = mixed("{ kinds = [] }", "1e-4").unwrap_err();
+    assert_eq!(e.key(), "effects.contact_time.kinds", "{e}");
+}
+
+#[test]
+fn check_warns_when_an_automatic_step_below_10_us_comes_from_a_contact_time() {
+    let dir = tempfile::tempdir().unwrap();
+    let text = |contact_time: &str| mixed(contact_time, "\"auto\"").unwrap().source;
+    let check = |name: &str, source: String| {
+        let path = dir.path().join(name);
+        std::fs::write(&path, source).unwrap();
+        let out = std::process::Command::new(env!("CARGO_BIN_EXE_wetbounce"))
+            .arg("check")
+            .arg(&path)
+            .output()
+            .unwrap();
+        assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+        String::from_utf8_lossy(&out.stdout).into_owned()
+    };
+    let all = check("all.toml", text("{}"));
+    assert!(all.contains("warning: dt = ") && all.contains("contact_time = { kinds = [..] }"), "{all}");
+    let drops = check("drops.toml", text(r#"{ kinds = ["toluene"] }"#));
+    assert!(!drops.contains("warning: dt = "), "{drops}");
+}

@@ -51,6 +51,11 @@ pub trait Effect: std::fmt::Debug + Send + Sync {
     fn name(&self) -> &'static str;
     /// Adds this effect's term to `physics`, for a scene with these `kinds` in this `fluid`.
     fn apply(&self, fluid: &Fluid, kinds: &[ParticleKind], physics: &mut Physics);
+    /// Checks the table against the scene's kinds (a kind named by the effect must exist);
+    /// the scene loader adds the file and `effects.<name>`.
+    fn check(&self, _kinds: &[ParticleKind]) -> Result<(), EffectError> {
+        Ok(())
+    }
 }
 
 /// The error of [`build_effect`]; the scene loader adds the file and `effects.<name>`.
@@ -117,6 +122,8 @@ pub struct Physics {
     pub added_mass_coefficient: f64,
     /// With the contact-time effect: particles are held at the wall for `t_c` (PHYSICS.md §5.3).
     pub hold_at_contact: bool,
+    /// Which kinds the contact-time effect holds, indexed like the kinds (empty without it).
+    pub held_kinds: Vec<bool>,
     /// With the wall-lubrication effect **[ext]**: the drag and added mass near a wall
     /// (PHYSICS.md §8), evaluated by the flight kernel for particles near a wall only.
     pub wall_lubrication: bool,
@@ -145,6 +152,7 @@ impl Physics {
             drag: None,
             added_mass_coefficient: 0.0,
             hold_at_contact: false,
+            held_kinds: Vec::new(),
             wall_lubrication: false,
             history: None,
             rotation: false,

@@ -115,7 +115,7 @@ pub fn auto_step(scene: &Scene, accuracy: Accuracy) -> Result<AutoStep, String> 
             (r.relaxation_time, format!("relaxation time t_r of {who}")),
             (d / r.terminal_velocity, format!("time to cross a diameter d/V_t of {who}")),
         ];
-        if scene.setup.rule.hold_at_contact && r.bounces {
+        if scene.setup.rule.hold_at_contact && scene.setup.kinds[k as usize].held_at_contact && r.bounces {
             scales.push((r.contact_time, format!("contact time t_c of {who}")));
         }
         for (t, why) in scales {

@@ -99,7 +99,7 @@ pub(super) fn build(
     let output_interval = check::positive_in("simulation.output_interval", sim.output_interval, &TIME)?;
 
     let fluid = build_fluid(&file.fluid, base)?;
-    let kinds = build_kinds(&file.kinds)?;
+    let mut kinds = build_kinds(&file.kinds)?;
     let walls = walls::build_walls(&file.walls, base)?;
 
     let mut effects = Vec::new();
@@ -114,9 +114,16 @@ pub(super) fn build(
             let key = if e.key.is_empty() { key.clone() } else { format!("{key}.{}", e.key) };
             Invalid::new(key, format!("{}{line}", e.message))
         })?;
+        effect.check(&kinds).map_err(|e| {
+            let key = if e.key.is_empty() { key.clone() } else { format!("{key}.{}", e.key) };
+            Invalid::new(key, format!("{}{line}", e.message))
+        })?;
         effects.push(effect);
     }
     let mut physics = Physics::build(&fluid, &kinds, &effects);
+    for (kind, &held) in kinds.iter_mut().zip(&physics.held_kinds) {
+        kind.held_at_contact = held;
+    }
     // Friction needs the spin: a scene with a friction key has rotation (PHYSICS.md §9).
     let friction =
         kinds.iter().any(|k| k.friction.named()) || walls.iter().any(|w| w.material.friction.named());
@@ -388,6 +395,8 @@ fn build_kinds(specs: &[KindSpec]) -> Result<Vec<ParticleKind>, Invalid> {
                 &key(""),
                 (spec.friction, spec.tangential_restitution, spec.rolling_friction),
             )?,
+            // Set by the contact-time effect once the effects are built.
+            held_at_contact: false,
         });
     }
     Ok(kinds)

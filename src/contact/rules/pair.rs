@@ -104,7 +104,10 @@ pub fn pair_impact(a: &PairBody, b: &PairBody, n: DVec3, fluid: &Fluid, rule: &B
         Restitution::Rebound(eps) => {
             let rebound = -eps * vn * n + rule.tangential_restitution * ut;
             let contact_time = pair_contact_time(a, b, rho, st, vn);
-            let (outcome, (va, vb)) = if rule.hold_at_contact {
+            // A pair is held when either kind is: the contact time is then the softer one's
+            // (a drop's spring), which is what the effect names a kind for.
+            let held = rule.hold_at_contact && (a.kind.held_at_contact || b.kind.held_at_contact);
+            let (outcome, (va, vb)) = if held {
                 (Outcome::Held, towards(DVec3::ZERO))
             } else {
                 (Outcome::Bounced, towards(rebound))
@@ -159,6 +162,7 @@ mod tests {
             material: Material::Drop { surface_tension: 0.026 },
             roughness: 0.0,
             friction: Default::default(),
+            held_at_contact: true,
         }
     }
 

@@ -103,7 +103,11 @@ pub fn wall_impact(
             st,
             eps,
             contact_time: contact_time(kind, d, material, fluid, v_inf, st),
-            outcome: if rule.hold_at_contact { Outcome::Held } else { Outcome::Bounced },
+            outcome: if rule.hold_at_contact && kind.held_at_contact {
+                Outcome::Held
+            } else {
+                Outcome::Bounced
+            },
             velocity: eps * v_inf * n + rule.tangential_restitution * tangential,
         },
     }
