@@ -38,7 +38,7 @@ def run_point(scene: wb.Scene, mean_velocity: float) -> dict[str, float]:
     """One run with the water's mean velocity (m/s, negative: downwards)."""
     point = scene.with_values({"fluid.flow.mean_velocity": mean_velocity})
     start = time.perf_counter()
-    sim = point.run()  # whole, no files
+    sim = point.run(quiet=True)  # whole, no files, no bar (the points print their own lines)
     rt = sim.residence_times()["residence_time"]
     walls = sim.summary_frames()["walls"]
     baffles = walls[walls.index.str.startswith(("disc", "doughnut"))]

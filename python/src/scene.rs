@@ -200,7 +200,8 @@ impl Scene {
 
     /// Runs the scene whole (a new :class:`Simulation`, see :meth:`Simulation.run` for the
     /// arguments) and returns the finished simulation.
-    #[pyo3(signature = (out = None, *, formats = None, output_interval = None, max_spheres = 1000, name = None))]
+    #[pyo3(signature = (out = None, *, formats = None, output_interval = None, max_spheres = 1000, name = None, quiet = false))]
+    #[allow(clippy::too_many_arguments)]
     fn run(
         &self,
         py: Python<'_>,
@@ -209,10 +210,19 @@ impl Scene {
         output_interval: Option<f64>,
         max_spheres: usize,
         name: Option<String>,
-    ) -> PyResult<Simulation> {
-        let mut sim = Simulation::new(self);
-        sim.run(py, out, formats, output_interval, max_spheres, name)?;
-        Ok(sim)
+        quiet: bool,
+    ) -> PyResult<Py<Simulation>> {
+        let sim = Py::new(py, Simulation::new(self))?;
+        Simulation::run(
+            sim.bind(py).borrow_mut(),
+            py,
+            out,
+            formats,
+            output_interval,
+            max_spheres,
+            name,
+            quiet,
+        )
     }
 
     /// A summary table for Jupyter: the file, the time and step, the fluid, kinds, walls,

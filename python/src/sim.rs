@@ -9,10 +9,10 @@ use pyo3::exceptions::{PyRuntimeError, PyValueError};
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList};
 use std::path::PathBuf;
-use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
 use std::time::{Duration, Instant};
 use wetbounce::contact::ContactEvent;
-use wetbounce::output::{Folder, Format, OutputError, Outputs, RunSummary, Sink, Statistics};
+use wetbounce::output::{Folder, Format, OutputError, Outputs, Progress, RunSummary, Sink, Statistics};
 use wetbounce::pipeline::LostParticle;
 use wetbounce::run::{RunFailed, RunReport, run};
 use wetbounce::scene::LoadOptions;
@@ -68,6 +68,8 @@ pub struct Simulation {
     wall_time: Duration,
     frames: u64,
     interrupted: bool,
+    /// The files the last `run` wrote.
+    files: Vec<PathBuf>,
 }
 
 impl Simulation {
@@ -85,6 +87,7 @@ impl Simulation {
             wall_time: Duration::ZERO,
             frames: 0,
             interrupted: false,
+            files: Vec::new(),
         }
     }
 
@@ -139,6 +142,157 @@ impl Simulation {
     fn vectors<'py>(py: Python<'py>, v: &[glam::DVec3]) -> Bound<'py, PyArray2<f64>> {
         let flat: Vec<f64> = v.iter().flat_map(|x| x.to_array()).collect();
         Array2::from_shape_vec((v.len(), 3), flat).expect("three numbers per vector").into_pyarray(py)
+    }
+
+    /// [`Simulation::run`]'s work: the run, its files and summary; returns the files written.
+    fn run_whole(
+        &mut self,
+        py: Python<'_>,
+        out: Option<PathBuf>,
+        (formats, output_interval, max_spheres, name): (
+            Option<Vec<String>>,
+            Option<f64>,
+            usize,
+            Option<String>,
+        ),
+        quiet: bool,
+    ) -> PyResult<Vec<PathBuf>> {
+        if self.sim.world.steps > 0 {
+            return Err(PyRuntimeError::new_err(format!(
+                "run: this simulation has already stepped to t = {} s; run() starts at t = 0 \
+                 (make a new one with Scene.simulation(), or continue with advance_to)",
+                self.sim.world.time
+            )));
+        }
+        let interval = match output_interval {
+            None => self.output_interval,
+            Some(s) if !(s.is_finite() && s > 0.0) => {
+                return Err(PyValueError::new_err(format!(
+                    "output_interval: must be a finite time > 0 s, got {s}"
+                )));
+            }
+            Some(s) => {
+                if !self.options.allow_long_run {
+                    wetbounce::scene::run_length(self.duration, s, self.sim.setup.dt)
+                        .map_err(|e| PyValueError::new_err(format!("output_interval {s:e}: {e}")))?;
+                }
+                s
+            }
+        };
+        let formats = formats.unwrap_or_else(|| vec!["mcap".to_owned()]);
+        let stem = name.unwrap_or_else(|| {
+            if self.scene_path.file_name().is_some_and(|n| n == "<dict>") {
+                "scene".to_owned()
+            } else {
+                self.scene_path.file_stem().map_or("scene".into(), |s| s.to_string_lossy().into_owned())
+            }
+        });
+        let Outputs { mut sinks, mut written, .. } = match &out {
+            Some(dir) => {
+                let folder = Folder {
+                    out: dir,
+                    stem: &stem,
+                    scene_path: &self.scene_path,
+                    scene_source: &self.source,
+                    max_spheres,
+                    // The spin columns as `wetbounce run` decides them, so the files stay the CLI's.
+                    rotation: self.sim.setup.physics.rotation,
+                };
+                create_sinks(&formats, &folder)?
+            }
+            None => Outputs { sinks: Vec::new(), written: Vec::new(), stale: Default::default() },
+        };
+
+        let stop = AtomicBool::new(false);
+        let done = AtomicBool::new(false);
+        let mut interrupt: Option<PyErr> = None;
+        let duration = self.duration;
+        // The bar: tqdm's when it is installed (it draws in notebooks too), else the CLI's
+        // (indicatif, on a terminal's standard error only).
+        let bar = if quiet { None } else { tqdm_bar(py, duration) };
+        let mut engine_bar = (!quiet && bar.is_none()).then(|| Progress::new(duration, false));
+        let reached = AtomicU64::new(0f64.to_bits());
+        let mut clock = Clock(&reached);
+        let (sim, collected) = (&mut self.sim, &mut self.collected);
+        let result: Result<RunReport, RunFailed> = std::thread::scope(|s| {
+            let worker = s.spawn(|| {
+                let mut all: Vec<&mut dyn Sink> =
+                    sinks.iter_mut().map(|s| s.as_mut() as &mut dyn Sink).collect();
+                all.push(collected);
+                all.push(&mut clock);
+                if let Some(p) = engine_bar.as_mut() {
+                    all.push(p);
+                }
+                let r = run(sim, duration, interval, &mut all, &stop);
+                done.store(true, Ordering::Release);
+                r
+            });
+            let mut shown = 0.0;
+            while !done.load(Ordering::Acquire) {
+                py.detach(|| {
+                    let start = Instant::now();
+                    while !done.load(Ordering::Acquire) && start.elapsed() < CHUNK {
+                        std::thread::sleep(Duration::from_millis(2));
+                    }
+                });
+                // The bar runs Python code, where a pending Ctrl-C is raised: it is the run's
+                // interrupt then, as from check_signals (swallowed, it was lost).
+                let drawn = match &bar {
+                    Some(bar) => {
+                        advance_bar(bar, &mut shown, f64::from_bits(reached.load(Ordering::Relaxed)))
+                    }
+                    None => Ok(()),
+                };
+                if interrupt.is_none()
+                    && let Err(e) = drawn.and_then(|()| py.check_signals())
+                {
+                    interrupt = Some(e);
+                    stop.store(true, Ordering::Relaxed);
+                }
+            }
+            if let Some(bar) = &bar {
+                let closed = advance_bar(bar, &mut shown, f64::from_bits(reached.load(Ordering::Relaxed)))
+                    .and_then(|()| bar.call_method0("close").map(|_| ()));
+                if let (None, Err(e)) = (&interrupt, closed) {
+                    interrupt = Some(e);
+                }
+            }
+            match worker.join() {
+                Ok(r) => r,
+                Err(panic) => std::panic::resume_unwind(panic),
+            }
+        });
+        let (report, mut errors) = match result {
+            Ok(report) => (report, Vec::new()),
+            Err(failed) => (failed.report, failed.errors),
+        };
+        self.lost_seen = self.sim.record.lost.len();
+        self.wall_time += report.wall_time;
+        self.frames = report.frames;
+        self.interrupted = report.interrupted;
+        if let Some(dir) = &out {
+            let json_path = dir.join("summary.json");
+            let mut json = self.summary_value();
+            let signal = match &interrupt {
+                Some(e) if e.is_instance_of::<pyo3::exceptions::PyKeyboardInterrupt>(py) => "SIGINT".into(),
+                Some(e) => serde_json::Value::String(e.get_type(py).name()?.to_string()),
+                None => serde_json::Value::Null,
+            };
+            json["signal"] = if report.interrupted { signal } else { serde_json::Value::Null };
+            json["output_errors"] = errors.iter().map(|e| serde_json::Value::String(e.to_string())).collect();
+            let text = serde_json::to_string_pretty(&json).map_err(|e| OutputError::write(&json_path, e));
+            match text.and_then(|t| wetbounce::output::file::write_file(&json_path, &(t + "\n"))) {
+                Ok(()) => written.push(json_path),
+                Err(e) => errors.push(e),
+            }
+        }
+        if let Some(e) = interrupt {
+            return Err(e);
+        }
+        if !errors.is_empty() {
+            return Err(output_error(&errors));
+        }
+        Ok(written)
     }
 }
 
@@ -202,125 +356,32 @@ impl Simulation {
     /// ``summary.json`` says ``"interrupted": true`` and ``"signal": "SIGINT"``, then the
     /// ``KeyboardInterrupt`` propagates. A file that cannot be written raises
     /// :class:`OutputError` (after the others are closed).
-    #[pyo3(signature = (out = None, *, formats = None, output_interval = None, max_spheres = 1000, name = None))]
+    ///
+    /// Returns the simulation itself, finished, as :meth:`Scene.run` returns its new one; the
+    /// files written are :attr:`files`. A progress bar shows the simulated time (tqdm's, which
+    /// draws in terminals and notebooks, when tqdm is installed; else the CLI's on a
+    /// terminal's standard error); ``quiet=True`` leaves it out.
+    #[pyo3(signature = (out = None, *, formats = None, output_interval = None, max_spheres = 1000, name = None, quiet = false))]
+    #[allow(clippy::too_many_arguments)]
     pub fn run(
-        &mut self,
+        mut slf: PyRefMut<'_, Self>,
         py: Python<'_>,
         out: Option<PathBuf>,
         formats: Option<Vec<String>>,
         output_interval: Option<f64>,
         max_spheres: usize,
         name: Option<String>,
-    ) -> PyResult<Vec<PathBuf>> {
-        if self.sim.world.steps > 0 {
-            return Err(PyRuntimeError::new_err(format!(
-                "run: this simulation has already stepped to t = {} s; run() starts at t = 0 \
-                 (make a new one with Scene.simulation(), or continue with advance_to)",
-                self.sim.world.time
-            )));
-        }
-        let interval = match output_interval {
-            None => self.output_interval,
-            Some(s) if !(s.is_finite() && s > 0.0) => {
-                return Err(PyValueError::new_err(format!(
-                    "output_interval: must be a finite time > 0 s, got {s}"
-                )));
-            }
-            Some(s) => {
-                if !self.options.allow_long_run {
-                    wetbounce::scene::run_length(self.duration, s, self.sim.setup.dt)
-                        .map_err(|e| PyValueError::new_err(format!("output_interval {s:e}: {e}")))?;
-                }
-                s
-            }
-        };
-        let formats = formats.unwrap_or_else(|| vec!["mcap".to_owned()]);
-        let stem = name.unwrap_or_else(|| {
-            if self.scene_path.file_name().is_some_and(|n| n == "<dict>") {
-                "scene".to_owned()
-            } else {
-                self.scene_path.file_stem().map_or("scene".into(), |s| s.to_string_lossy().into_owned())
-            }
-        });
-        let Outputs { mut sinks, mut written, .. } = match &out {
-            Some(dir) => {
-                let folder = Folder {
-                    out: dir,
-                    stem: &stem,
-                    scene_path: &self.scene_path,
-                    scene_source: &self.source,
-                    max_spheres,
-                    // The spin columns as `wetbounce run` decides them, so the files stay the CLI's.
-                    rotation: self.sim.setup.physics.rotation,
-                };
-                create_sinks(&formats, &folder)?
-            }
-            None => Outputs { sinks: Vec::new(), written: Vec::new(), stale: Default::default() },
-        };
+        quiet: bool,
+    ) -> PyResult<Py<Self>> {
+        slf.files = slf.run_whole(py, out, (formats, output_interval, max_spheres, name), quiet)?;
+        Ok(slf.into())
+    }
 
-        let stop = AtomicBool::new(false);
-        let done = AtomicBool::new(false);
-        let mut interrupt: Option<PyErr> = None;
-        let (sim, collected, duration) = (&mut self.sim, &mut self.collected, self.duration);
-        let result: Result<RunReport, RunFailed> = std::thread::scope(|s| {
-            let worker = s.spawn(|| {
-                let mut all: Vec<&mut dyn Sink> =
-                    sinks.iter_mut().map(|s| s.as_mut() as &mut dyn Sink).collect();
-                all.push(collected);
-                let r = run(sim, duration, interval, &mut all, &stop);
-                done.store(true, Ordering::Release);
-                r
-            });
-            while !done.load(Ordering::Acquire) {
-                py.detach(|| {
-                    let start = Instant::now();
-                    while !done.load(Ordering::Acquire) && start.elapsed() < CHUNK {
-                        std::thread::sleep(Duration::from_millis(2));
-                    }
-                });
-                if interrupt.is_none()
-                    && let Err(e) = py.check_signals()
-                {
-                    interrupt = Some(e);
-                    stop.store(true, Ordering::Relaxed);
-                }
-            }
-            match worker.join() {
-                Ok(r) => r,
-                Err(panic) => std::panic::resume_unwind(panic),
-            }
-        });
-        let (report, mut errors) = match result {
-            Ok(report) => (report, Vec::new()),
-            Err(failed) => (failed.report, failed.errors),
-        };
-        self.lost_seen = self.sim.record.lost.len();
-        self.wall_time += report.wall_time;
-        self.frames = report.frames;
-        self.interrupted = report.interrupted;
-        if let Some(dir) = &out {
-            let json_path = dir.join("summary.json");
-            let mut json = self.summary_value();
-            let signal = match &interrupt {
-                Some(e) if e.is_instance_of::<pyo3::exceptions::PyKeyboardInterrupt>(py) => "SIGINT".into(),
-                Some(e) => serde_json::Value::String(e.get_type(py).name()?.to_string()),
-                None => serde_json::Value::Null,
-            };
-            json["signal"] = if report.interrupted { signal } else { serde_json::Value::Null };
-            json["output_errors"] = errors.iter().map(|e| serde_json::Value::String(e.to_string())).collect();
-            let text = serde_json::to_string_pretty(&json).map_err(|e| OutputError::write(&json_path, e));
-            match text.and_then(|t| wetbounce::output::file::write_file(&json_path, &(t + "\n"))) {
-                Ok(()) => written.push(json_path),
-                Err(e) => errors.push(e),
-            }
-        }
-        if let Some(e) = interrupt {
-            return Err(e);
-        }
-        if !errors.is_empty() {
-            return Err(output_error(&errors));
-        }
-        Ok(written)
+    /// The files the last :meth:`run` wrote (``summary.json`` last); empty before a run and
+    /// for a run without ``out``.
+    #[getter]
+    fn files(&self) -> Vec<PathBuf> {
+        self.files.clone()
     }
 
     /// Simulated time (s).
@@ -429,6 +490,38 @@ impl Simulation {
             }
         }
         py.import("pandas")?.getattr("DataFrame")?.call1((d,))
+    }
+
+    /// A trajectory recorder: steps through ``times`` (s: increasing, none before the
+    /// simulation's time) as :meth:`advance_to` does and returns the particles at each — the
+    /// columns of :meth:`particles` with ``t`` first, one row per particle per time: a long
+    /// DataFrame (``df.groupby("t")``, ``df.pivot(index="t", columns="id", values="z")``).
+    /// Given the scene's output times, its rows are those of ``trajectories.csv``.
+    fn record<'py>(&mut self, py: Python<'py>, times: Vec<f64>) -> PyResult<Bound<'py, PyAny>> {
+        let pandas = py.import("pandas")?;
+        let mut frames = Vec::with_capacity(times.len());
+        for (i, &t) in times.iter().enumerate() {
+            let now = self.sim.world.time;
+            if !(t.is_finite() && t >= now) {
+                return Err(PyValueError::new_err(format!(
+                    "record: times[{i}] = {t} s is before the simulation's time {now} s (or not finite): \
+                     the times must increase from it"
+                )));
+            }
+            self.advance_to(py, t)?;
+            let frame = self.particles(py)?;
+            frame.call_method1("insert", (0, "t", t))?;
+            frames.push(frame);
+        }
+        if frames.is_empty() {
+            // No time: the columns all the same, no row.
+            let frame = self.particles(py)?.call_method1("head", (0,))?;
+            frame.call_method1("insert", (0, "t", 0.0))?;
+            return Ok(frame);
+        }
+        let kwargs = PyDict::new(py);
+        kwargs.set_item("ignore_index", true)?;
+        pandas.getattr("concat")?.call((frames,), Some(&kwargs))
     }
 
     /// A summary table for Jupyter: the scene, the time reached, the steps, the particles by
@@ -664,4 +757,40 @@ pub fn html_table(caption: &str, rows: &[(&str, String)]) -> String {
     }
     html.push_str("</table>");
     html
+}
+
+/// A sink that publishes the simulated time after every step, for the progress bar drawn
+/// under the GIL while the engine steps on another thread.
+struct Clock<'a>(&'a AtomicU64);
+
+impl Sink for Clock<'_> {
+    fn step(&mut self, sim: &wetbounce::Simulation) -> Result<(), OutputError> {
+        self.0.store(sim.world.time.to_bits(), Ordering::Relaxed);
+        Ok(())
+    }
+}
+
+/// `tqdm.auto.tqdm(total=duration, unit="s")`, or `None` when tqdm is not installed.
+fn tqdm_bar<'py>(py: Python<'py>, duration: f64) -> Option<Bound<'py, PyAny>> {
+    let tqdm = py.import("tqdm.auto").ok()?.getattr("tqdm").ok()?;
+    let kwargs = PyDict::new(py);
+    kwargs.set_item("total", duration).ok()?;
+    kwargs.set_item("unit", "s").ok()?;
+    kwargs.set_item("desc", "simulated").ok()?;
+    kwargs
+        .set_item(
+            "bar_format",
+            "{desc}: {percentage:3.0f}%|{bar}| {n:.4g}/{total:.4g} s [{elapsed}<{remaining}]",
+        )
+        .ok()?;
+    tqdm.call((), Some(&kwargs)).ok()
+}
+
+/// Moves the bar from `shown` to `time` (s).
+fn advance_bar(bar: &Bound<'_, PyAny>, shown: &mut f64, time: f64) -> PyResult<()> {
+    if time > *shown {
+        bar.call_method1("update", (time - *shown,))?;
+        *shown = time;
+    }
+    Ok(())
 }

@@ -213,8 +213,9 @@ def test_advance_to_refuses_going_back_and_non_finite_times():
 def test_stepping_to_output_times_gives_the_run_files_rows(tmp_path):
     """advance_to(t) at output times gives, bit for bit, the rows of trajectories.csv."""
     scene = wb.Scene.load(TOLUENE).with_values({"simulation.output_interval": 0.05})
-    written = scene.simulation().run(tmp_path, formats=["csv"])
-    assert {p.name for p in written} == {"trajectories.csv", "events.csv", "summary.json"}
+    sim = scene.simulation()
+    assert sim.run(tmp_path, formats=["csv"], quiet=True) is sim  # run() returns the simulation
+    assert {p.name for p in sim.files} == {"trajectories.csv", "events.csv", "summary.json"}
     rows = list(csv.DictReader(open(tmp_path / "trajectories.csv")))
     sim = scene.simulation()
     compared = 0
@@ -403,7 +404,7 @@ def test_vtk_files_are_the_cli_files_and_a_rerun_removes_the_stale_ones(tmp_path
     """formats=["vtk"] writes what ``wetbounce run --formats vtk`` writes, byte for byte (one
     output folder for both, ``output::Folder``); a rerun in other formats removes them."""
     scene = wb.Scene.load(TOLUENE).with_values({"simulation.duration": 0.2, "simulation.output_interval": 0.05})
-    written = scene.simulation().run(tmp_path / "py", formats=["vtk"], name="drop")
+    written = scene.simulation().run(tmp_path / "py", formats=["vtk"], name="drop").files
     names = sorted(p.name for p in written)
     assert names == ["drop.pvd", "drop_walls.vtp", "events.csv", "summary.json"], names
     frames = sorted(p.name for p in (tmp_path / "py" / "drop_vtk").iterdir())
@@ -555,4 +556,47 @@ def test_scene_and_simulation_show_a_summary_table_in_jupyter():
     sim.advance_to(0.1)
     html = sim._repr_html_()
     assert "0.1 s of 1 s" in html and "1: " in html and "</table>" in html
+
+
+def test_record_gives_the_trajectories_csv_rows_as_a_long_frame(tmp_path):
+    """record(the output times) holds the rows of trajectories.csv, t first; times before the
+    simulation's are refused."""
+    scene = short_heap()
+    scene.run(tmp_path, formats=["csv"], quiet=True)
+    trajectories = pd.read_csv(tmp_path / "trajectories.csv")
+    times = sorted(trajectories["t"].unique())
+    sim = scene.simulation()
+    long = sim.record(times)
+    assert list(long.columns)[:2] == ["t", "id"]
+    assert len(long) == len(trajectories)
+    mine = long.sort_values(["t", "id"]).reset_index(drop=True)
+    theirs = trajectories.sort_values(["t", "id"]).reset_index(drop=True)
+    for column in ("t", "id", "x", "y", "z", "vx", "vy", "vz", "wx", "wy", "wz"):
+        np.testing.assert_array_equal(mine[column].to_numpy(), theirs[column].to_numpy(), err_msg=column)
+    assert list(mine["state"]) == list(theirs["state"])
+    with pytest.raises(ValueError, match=r"times\[0\] = 0.1 s is before"):
+        sim.record([0.1])
+    assert len(sim.record([])) == 0
+
+
+def test_scene_run_and_simulation_run_both_return_the_finished_simulation(tmp_path):
+    scene = wb.Scene.load(TOLUENE).with_values({"simulation.duration": 0.1})
+    a = scene.run(tmp_path / "a", formats=["csv"], quiet=True)
+    b = scene.simulation()
+    assert b.run(tmp_path / "b", formats=["csv"], quiet=True) is b
+    assert isinstance(a, wb.Simulation) and a.time == b.time == 0.1
+    assert [p.name for p in a.files] == [p.name for p in b.files]
+    assert scene.simulation().files == []
+
+
+def test_a_progress_bar_is_drawn_unless_quiet(capfd):
+    """tqdm's bar when tqdm is installed (CI installs it), on standard error; none with
+    quiet=True."""
+    pytest.importorskip("tqdm")
+    scene = wb.Scene.load(TOLUENE).with_values({"simulation.duration": 0.2})
+    scene.run(quiet=True)
+    assert capfd.readouterr().err == ""
+    scene.run()
+    err = capfd.readouterr().err
+    assert "simulated" in err and "100%" in err and "0.2/0.2 s" in err, err
 

@@ -96,6 +96,7 @@ class Scene:
         output_interval: float | None = None,
         max_spheres: int = 1000,
         name: str | None = None,
+        quiet: bool = False,
     ) -> Simulation:
         """Runs a new simulation of the scene whole (see :meth:`Simulation.run`) and returns
         it."""
@@ -114,12 +115,14 @@ class Simulation:
         output_interval: float | None = None,
         max_spheres: int = 1000,
         name: str | None = None,
-    ) -> list[Path]:
+        quiet: bool = False,
+    ) -> Simulation:
         """Runs from time 0 to the scene's duration as ``wetbounce run`` does; with ``out``,
         writes its files there (``formats``: ``"mcap"``, ``"csv"``, ``"vtk"``, and ``"rrd"``
         in a build with rerun) and ``summary.json``, removing an earlier run's outputs it does
-        not write. Returns the files written; raises :class:`OutputError` for any output
-        failure, the folder's included."""
+        not write. Returns the simulation, finished (the files written are :attr:`files`); a
+        progress bar (tqdm's if installed) unless ``quiet``; raises :class:`OutputError` for
+        any output failure, the folder's included."""
 
     @property
     def time(self) -> float:
@@ -182,6 +185,14 @@ class Simulation:
         """The first particle found outside a flow field with ``outside = "error"``: ``id``,
         ``position`` (m), ``t`` (s), ``message``; ``None`` if none. ``run()`` stops there;
         ``advance_to`` goes on, so check this after it."""
+
+    @property
+    def files(self) -> list[Path]:
+        """The files the last :meth:`run` wrote (``summary.json`` last)."""
+
+    def record(self, times: Sequence[float]) -> pd.DataFrame:
+        """Steps through ``times`` and returns the particles at each, ``t`` first: a long
+        DataFrame, the rows of ``trajectories.csv`` at the output times."""
 
     def particles(self) -> pd.DataFrame:
         """The particles now: ``id``, ``kind`` (name), ``diameter``, ``x``, ``y``, ``z``,
