@@ -128,7 +128,7 @@ fn run_scene(args: &RunArgs) -> Result<(String, ExitCode), String> {
     }
     let formats = args.formats.clone().unwrap_or_else(Format::defaults);
     for f in &formats {
-        f.available().map_err(|e| format!("--formats {e}"))?;
+        f.available().map_err(|e| format!("--formats {}: {e}", f.name()))?;
     }
     let options =
         LoadOptions { allow_long_run: args.allow_long_run, allow_large_memory: args.allow_large_memory };

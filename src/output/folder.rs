@@ -42,13 +42,14 @@ impl Format {
             .into_iter()
             .find(|f| f.name() == name)
             .ok_or_else(|| format!("{name:?} is not one of {}", names.join(", ")))?;
-        format.available().map(|()| format)
+        format.available().map(|()| format).map_err(|e| format!("{name:?}: {e}"))
     }
 
-    /// Whether this build can write the format: `rrd` needs the `rerun` feature.
+    /// Whether this build can write the format: `rrd` needs the `rerun` feature (the error says
+    /// how to get it; the caller names the format).
     pub fn available(self) -> Result<(), String> {
         if self == Format::Rrd && !cfg!(feature = "rerun") {
-            return Err("\"rrd\": this wetbounce was built without the `rerun` feature; rebuild with \
+            return Err("this wetbounce was built without the `rerun` feature; rebuild with \
                         `cargo build --release --features rerun`, or open the .mcap in rerun"
                 .into());
         }
