@@ -5,6 +5,7 @@
 //! 61 (2006) 3543–3549. The physics is specified in `docs/physics.md` (cited as PHYSICS.md);
 //! this crate's rooms, from the bottom up (a lower one never names a higher one):
 //!
+//! - [`files`]: the rule every file read follows (a regular file, under a size cap);
 //! - [`numeric`]: four particles at once (lane groups) and fixed powers by tables;
 //! - [`correlations`]: the paper's formulas as pure functions;
 //! - [`particles`], [`fluid`], [`walls`]: what the world is made of;
@@ -24,6 +25,7 @@
 pub mod contact;
 pub mod correlations;
 pub mod effects;
+pub mod files;
 pub mod flight;
 pub mod fluid;
 pub mod heap;

@@ -9,6 +9,7 @@ mod appended;
 pub mod read;
 pub mod structured;
 pub mod unstructured;
+mod vet;
 
 use super::FlowField;
 use crate::numeric::lanes::{DVec3x4, PointMap, Vector};

@@ -63,10 +63,9 @@ impl Invalid {
 pub(crate) mod fmt {
     /// The shortest text that reads back as `v`: plain from 1e-4 up to 1e4 (`0.001`, `2500`,
     /// `-0.00089`), scientific outside (`1e300`, `1e4`, `6.3e10`, `1e-7`); `NaN`, `inf`, `-inf`.
-    pub fn num(v: f64) -> String {
-        let a = v.abs();
-        if v == 0.0 || !v.is_finite() || (1e-4..1e4).contains(&a) { format!("{v}") } else { format!("{v:e}") }
-    }
+    /// The engine's one rule ([`crate::numeric::num`]), which the field reader below the scene
+    /// uses too.
+    pub use crate::numeric::num;
 
     /// A count or a ratio that need not be exact: as [`num`] below 1e4 (to 3 decimals), and
     /// to three significant digits above (`1.2346e12` is `1.23e12`, `1e298` stays `1e298`).

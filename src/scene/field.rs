@@ -230,34 +230,72 @@ fn same_grid(a: &Grid, b: &Grid) -> bool {
     }
 }
 
+/// The largest `.pvd` collection read (bytes): one line per snapshot, so 16 MiB is some
+/// 100 000 snapshots; a larger file is a wrong path ([`crate::files`]).
+pub const PVD_FILE_CAP: u64 = 16 << 20;
+
 /// The data sets of a ParaView collection (`.pvd`): each `<DataSet timestep="…" file="…"/>`,
-/// file and time, in the order given.
+/// file and time, in the order given. Read with an XML parser, as ParaView reads it: a
+/// commented-out data set is not one, attribute values are unescaped, and any character may be
+/// in a name.
 fn read_pvd(path: &Path) -> Result<Vec<(String, f64)>, String> {
-    let text = std::fs::read_to_string(path)
-        .map_err(|e| format!("{}: cannot read the collection: {e}", path.display()))?;
-    if !text.contains("<Collection") {
-        return Err(format!("{}: not a ParaView collection (no <Collection>)", path.display()));
-    }
+    use quick_xml::events::Event;
+    let shown = path.display();
+    let bytes = crate::files::read(path, PVD_FILE_CAP, "a .pvd collection").map_err(|p| match p {
+        crate::files::FileProblem::Io(e) => format!("{shown}: cannot read the collection: {e}"),
+        other => format!("{shown}: {other}"),
+    })?;
+    let mut reader = quick_xml::Reader::from_reader(bytes.as_slice());
     let mut out = Vec::new();
-    for (i, tag) in text.split("<DataSet").skip(1).enumerate() {
-        let tag = tag.split('>').next().unwrap_or("");
-        let attr = |name: &str| -> Option<String> {
-            let at = tag.find(&format!(" {name}="))? + name.len() + 2;
-            let quote = tag[at..].chars().next()?;
-            let rest = &tag[at + 1..];
-            Some(rest[..rest.find(quote)?].to_string())
+    let mut collection = false;
+    loop {
+        let at = reader.buffer_position();
+        let event = reader
+            .read_event()
+            .map_err(|e| format!("{shown}: is not well-formed XML near byte {at}: {e}"))?;
+        let e = match &event {
+            Event::Start(e) | Event::Empty(e) => e,
+            Event::Eof => break,
+            _ => continue,
         };
-        let file = attr("file").ok_or_else(|| format!("{}: data set {i} has no file", path.display()))?;
-        let time = match attr("timestep") {
-            Some(t) => t.trim().parse::<f64>().ok().filter(|t| t.is_finite()).ok_or_else(|| {
-                format!("{}: data set {i} ({file}) has timestep \"{t}\", not a finite number", path.display())
-            })?,
-            None => return Err(format!("{}: data set {i} ({file}) has no timestep", path.display())),
-        };
-        out.push((file, time));
+        match e.local_name().as_ref() {
+            b"Collection" => collection = true,
+            b"DataSet" => {
+                let i = out.len();
+                let mut file = None;
+                let mut time = None;
+                for a in e.attributes() {
+                    let a =
+                        a.map_err(|err| format!("{shown}: data set {i} has a malformed attribute: {err}"))?;
+                    let value = a
+                        .unescape_value()
+                        .map_err(|err| {
+                            format!("{shown}: data set {i} has an attribute that cannot be read: {err}")
+                        })?
+                        .into_owned();
+                    match a.key.local_name().as_ref() {
+                        b"file" => file = Some(value),
+                        b"timestep" => time = Some(value),
+                        _ => {}
+                    }
+                }
+                let file = file.ok_or_else(|| format!("{shown}: data set {i} has no file"))?;
+                let time = match time {
+                    Some(t) => t.trim().parse::<f64>().ok().filter(|t| t.is_finite()).ok_or_else(|| {
+                        format!("{shown}: data set {i} ({file}) has timestep \"{t}\", not a finite number")
+                    })?,
+                    None => return Err(format!("{shown}: data set {i} ({file}) has no timestep")),
+                };
+                out.push((file, time));
+            }
+            _ => {}
+        }
+    }
+    if !collection {
+        return Err(format!("{shown}: not a ParaView collection (no <Collection>)"));
     }
     if out.is_empty() {
-        return Err(format!("{}: the collection names no data set", path.display()));
+        return Err(format!("{shown}: the collection names no data set"));
     }
     Ok(out)
 }

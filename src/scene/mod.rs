@@ -52,6 +52,10 @@ pub struct Scene {
     pub estimate_inputs: estimate::EstimateInputs,
 }
 
+/// The largest scene file read (bytes): a scene is a page of TOML; even one listing a million
+/// particles one by one is below this. A larger file is a wrong path ([`crate::files`]).
+pub const SCENE_FILE_CAP: u64 = 64 << 20;
+
 /// What loading may accept that it refuses by default.
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
 pub struct LoadOptions {
@@ -73,8 +77,13 @@ impl Scene {
     /// [`Scene::load`] with `options`.
     pub fn load_with(path: impl AsRef<Path>, options: LoadOptions) -> Result<Scene, SceneError> {
         let path = path.as_ref();
-        let source = std::fs::read_to_string(path)
-            .map_err(|source| SceneError::Read { file: path.to_path_buf(), source })?;
+        let source = crate::files::read_text(path, SCENE_FILE_CAP, "a scene file").map_err(|problem| {
+            let source = match problem {
+                crate::files::FileProblem::Io(e) => e,
+                other => std::io::Error::other(other.to_string()),
+            };
+            SceneError::Read { file: path.to_path_buf(), source }
+        })?;
         Scene::from_str_with(&source, path, options)
     }
 

@@ -139,7 +139,12 @@ pub fn field_report(scene: &Scene) -> Vec<String> {
             "  axisymmetric (r, z) table about the axis through {} along {}: r = {:.6} … {:.6} m, z = {:.6} … {:.6} m",
             a.point, a.axis, lo.x, hi.x, lo.z, hi.z
         )),
-        None => out.push(format!("  bounds: {lo} … {hi} m")),
+        // Each coordinate by `num`: `{}` would write a coordinate of 1e300 as 301 digits.
+        None => out.push(format!(
+            "  bounds: {} … {} m",
+            super::error::fmt::vec3(lo.to_array()),
+            super::error::fmt::vec3(hi.to_array())
+        )),
     }
     let (slow, fast) = i.speed_range;
     let (dx_min, dx_max) = i.spacing;

@@ -139,22 +139,14 @@ pub fn load_mesh(path: &Path, scale: f64, translate: DVec3) -> Result<MeshWall, 
     Ok(MeshWall { mesh, closed })
 }
 
-/// Refuses what is not a regular file (a device such as `/dev/zero` would be read forever, a
-/// fifo would block) and a file beyond [`MESH_FILE_CAP`], from its metadata, before reading it.
+/// Refuses what is not a regular file and a file beyond [`MESH_FILE_CAP`], from its metadata,
+/// before reading it: the rule of every file the engine reads ([`crate::files`]).
 fn check_file(path: &Path, shown: &str) -> Result<(), MeshError> {
-    let meta = std::fs::metadata(path).map_err(|source| MeshError::Read { path: shown.into(), source })?;
-    let refuse = |message: String| MeshError::NotAMesh { path: shown.into(), message };
-    if !meta.is_file() {
-        return Err(refuse("is not a regular file (a device, a fifo or a folder)".into()));
+    match crate::files::check(path, MESH_FILE_CAP, "a mesh file") {
+        Ok(_) => Ok(()),
+        Err(crate::files::FileProblem::Io(source)) => Err(MeshError::Read { path: shown.into(), source }),
+        Err(other) => Err(MeshError::NotAMesh { path: shown.into(), message: other.to_string() }),
     }
-    if meta.len() > MESH_FILE_CAP {
-        return Err(refuse(format!(
-            "is {} MiB, beyond the {} MiB a mesh file may have",
-            meta.len() >> 20,
-            MESH_FILE_CAP >> 20
-        )));
-    }
-    Ok(())
 }
 
 /// Vertices with identical coordinates become one (STL and OBJ repeat them per face).

@@ -27,7 +27,10 @@ pub fn raw_to_base64(file: &[u8]) -> Result<Option<Vec<u8>>, String> {
     let word = if head.contains("header_type=\"UInt64\"") { 8 } else { 4 };
     let compressed = head.contains("compressor=\"vtk");
     let read = |at: usize| -> Result<usize, String> {
-        let b = data.get(at..at + word).ok_or("raw appended data ends inside a block's header")?;
+        let b = at
+            .checked_add(word)
+            .and_then(|end| data.get(at..end))
+            .ok_or("raw appended data ends inside a block's header")?;
         Ok(if word == 8 {
             u64::from_le_bytes(b.try_into().unwrap_or([0; 8])) as usize
         } else {
@@ -55,7 +58,17 @@ pub fn raw_to_base64(file: &[u8]) -> Result<Option<Vec<u8>>, String> {
                 let n = encoded.len();
                 if compressed {
                     let blocks = read(old)?;
-                    let header = word * (3 + blocks);
+                    // Checked: a block count read from the file may be anything (2⁶⁴ − 1).
+                    let header = blocks
+                        .checked_add(3)
+                        .and_then(|n| n.checked_mul(word))
+                        .and_then(|h| Some((h, old.checked_add(h)?)))
+                        .filter(|&(_, end)| end <= data.len());
+                    let Some((header, _)) = header else {
+                        return Err(format!(
+                            "raw appended data ends inside a block table (offset {old} declares {blocks} blocks)"
+                        ));
+                    };
                     let mut size = 0usize;
                     for b in 0..blocks {
                         size = size.saturating_add(read(old + word * (3 + b))?);

@@ -75,6 +75,8 @@ pub enum CellProblem {
     Type(usize, u8),
     /// (cell, point): a cell names a point that does not exist.
     Point(usize, u64),
+    /// (cell, VTK type, points listed, points the type has): a cell of the wrong length.
+    Count(usize, u8, usize, usize),
     /// (cell, volume in m³): a cell has no volume (its vertices lie in a plane, a line or a point).
     Degenerate(usize, f64),
 }
@@ -184,6 +186,11 @@ impl Unstructured {
         let (mut small, mut large) = (f64::INFINITY, 0.0f64);
         for (c, (ty, verts)) in cells.iter().enumerate() {
             let faces = cell_faces(*ty).ok_or(CellProblem::Type(c, *ty))?;
+            // The faces name the type's corners by position: a shorter list would be read past.
+            let need = faces.iter().flat_map(|f| f.iter()).max().map_or(0, |&m| m + 1);
+            if verts.len() != need {
+                return Err(CellProblem::Count(c, *ty, verts.len(), need));
+            }
             let mut v: Vec<u32> = Vec::with_capacity(verts.len());
             for &p in verts {
                 if p as usize >= n_points {

@@ -83,6 +83,12 @@ const MAX_INFLATION: u64 = 64;
 
 fn recover_into(input: &Path, output: &Path) -> Result<Recovered, RecoverError> {
     let read_err = |source| RecoverError::Read { path: input.to_path_buf(), source };
+    // A regular file, of any size (the reader streams it): a device would be read forever, a
+    // fifo would block ([`crate::files`]).
+    crate::files::check(input, u64::MAX, "a recording").map_err(|problem| match problem {
+        crate::files::FileProblem::Io(source) => read_err(source),
+        other => read_err(std::io::Error::other(other.to_string())),
+    })?;
     let mut file = std::fs::File::open(input).map_err(read_err)?;
     // Creating the output truncates it: were it the input (by another name, a link), the file
     // to recover would be lost.
