@@ -787,6 +787,11 @@ proptest! {
 fn bounds_are_printed_short_not_digit_by_digit() {
     let dir = tempfile::tempdir().unwrap();
     let coords = |values: &str| format!(r#"<DataArray type="Float64" format="ascii">{values}</DataArray>"#);
+    // At rest: a gradient across the 1e-7 m would limit dt.
+    let velocity = format!(
+        r#"<DataArray type="Float64" Name="U" NumberOfComponents="3" format="ascii">{}</DataArray>"#,
+        ["0"; 24].join(" ")
+    );
     let text = format!(
         r#"{HEAD}
 <VTKFile type="RectilinearGrid" version="1.0" byte_order="LittleEndian">
@@ -794,11 +799,7 @@ fn bounds_are_printed_short_not_digit_by_digit() {
 <PointData>{}</PointData>
 <Coordinates>{}{}{}</Coordinates>
 </Piece></RectilinearGrid></VTKFile>"#,
-        // At rest: a gradient across the 1e-7 m would limit dt.
-        format!(
-            r#"<DataArray type="Float64" Name="U" NumberOfComponents="3" format="ascii">{}</DataArray>"#,
-            ["0"; 24].join(" ")
-        ),
+        velocity,
         coords("-1e100 1e100"),
         coords("0 1"),
         coords("0 1e-7")

@@ -65,11 +65,11 @@ pub enum RecoverError {
 /// A recovery that fails leaves no output file (a 0-byte or partial file would pass for a
 /// recovered one: issue 25, finding 13).
 pub fn recover(input: &Path, output: &Path) -> Result<Recovered, RecoverError> {
-    let result = recover_into(input, output);
-    if let Err(RecoverError::Write { .. } | RecoverError::NotMcap { .. } | RecoverError::Read { .. }) =
-        &result
-        && !same_file(input, output)
-    {
+    // Only a file this call created (or truncated) is removed: an input refused before the
+    // output is touched leaves whatever was at that path.
+    let mut created = false;
+    let result = recover_into(input, output, &mut created);
+    if result.is_err() && created && !same_file(input, output) {
         let _ = std::fs::remove_file(output);
     }
     result
@@ -81,7 +81,7 @@ pub fn recover(input: &Path, output: &Path) -> Result<Recovered, RecoverError> {
 /// `recover` allocate 2 GB).
 const MAX_INFLATION: u64 = 64;
 
-fn recover_into(input: &Path, output: &Path) -> Result<Recovered, RecoverError> {
+fn recover_into(input: &Path, output: &Path, created: &mut bool) -> Result<Recovered, RecoverError> {
     let read_err = |source| RecoverError::Read { path: input.to_path_buf(), source };
     // A regular file, of any size (the reader streams it): a device would be read forever, a
     // fifo would block ([`crate::files`]).
@@ -120,6 +120,7 @@ fn recover_into(input: &Path, output: &Path) -> Result<Recovered, RecoverError> 
 
     let out_file = OutputFile::create(output, 1 << 20)
         .map_err(|e| RecoverError::Write { path: output.to_path_buf(), message: e.message })?;
+    *created = true;
     let first_error = out_file.first_error();
     let write_err = |e: &dyn std::fmt::Display| RecoverError::Write {
         path: output.to_path_buf(),
