@@ -111,7 +111,8 @@ mod tests {
         let x = DVec3::new(0.0, 0.3, r * 2f64.sqrt());
         let c = crease(&walls, 0, x, r);
         assert_eq!(c.iter().map(|(w, _)| w).collect::<Vec<_>>(), vec![1]);
-        assert!(crease(&walls, 0, x + DVec3::new(1e-6, 0.0, 1e-6), r).is_empty());
+        // Lifted off b by 1.4e-6 m (1.4e-3 r): no longer touching it.
+        assert!(crease(&walls, 0, x + DVec3::new(-1e-6, 0.0, 1e-6), r).is_empty());
         let (on, line) = onto_crease(&walls[0].shape, &walls[1].shape, x + DVec3::new(3e-5, 0.0, -2e-5), r);
         assert!(walls.iter().all(|w| w.shape.gap(on, r).gap.abs() < 1e-15), "{on:?}");
         assert!((line.cross(DVec3::Y)).length() < 1e-12, "{line:?}");
