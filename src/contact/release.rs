@@ -3,7 +3,7 @@
 
 use crate::flight::{Kernel, Motion, NO_MEMORY, Segment};
 use crate::particles::{NO_WALL, State};
-use crate::walls::Surface;
+use crate::walls::{Surface, crease};
 use glam::DVec3;
 
 /// The start of a particle's path in the step ending at `t1`, after the contacts that end:
@@ -34,7 +34,13 @@ pub(crate) fn release_at_wall<M: Motion>(
             // "Points away" beyond round-off: on a side wall gravity is tangent, and the sign
             // of a zero would free and re-deposit the particle at every step.
             if a.dot(n) > 1e-9 * a.length() {
-                Segment { state: State::Free, wall: NO_WALL, memory: NO_MEMORY, ..start }
+                // Resting in a crease, it may be pulled off one wall into the other: it rests
+                // on that one then, as it did against it (no new contact).
+                let crease = crease(flight.walls, start.wall, start.x, 0.5 * d);
+                match crease.iter().find(|&(_, m)| a.dot(m) <= 1e-9 * a.length()) {
+                    Some((w, _)) => Segment { wall: w, ..start },
+                    None => Segment { state: State::Free, wall: NO_WALL, memory: NO_MEMORY, ..start },
+                }
             } else {
                 start
             }

@@ -21,10 +21,10 @@ pub use remembered::StepCoefficients;
 
 use crate::effects::{MemoryKernel, Physics, history_rate_times_radius};
 use crate::fluid::Fluid;
-use crate::integrate::{ForceField, Tangential};
+use crate::integrate::{Along, ForceField, Tangential};
 use crate::numeric::lanes::{DVec3x4, F64x4, LANES, each};
 use crate::particles::{ParticleKind, State};
-use crate::walls::{Surface, Wall, push_out};
+use crate::walls::{Crease, FLAT_CREASE, Surface, Wall, crease, onto_crease, push_out};
 use glam::DVec3;
 
 /// Gap (in particle radii) beyond which a sliding particle has lost its wall: it went over a
@@ -239,24 +239,124 @@ impl<'a, M: Motion> Kernel<'a, M> {
                 Flight { x, v, state: seg.state }
             }
             State::Resting => {
-                let wall = &self.walls[seg.wall as usize].shape;
-                let n = wall.gap(seg.x, r).normal;
-                let slide = Tangential { inner: field, n };
-                let (x, v) = self.motion.advance(&slide, seg.x, seg.v - seg.v.dot(n) * n, h);
-                let g = wall.gap(x, r);
-                if g.gap > FALL_AWAY * r {
-                    Flight { x, v, state: State::Free }
+                let n = self.walls[seg.wall as usize].shape.gap(seg.x, r).normal;
+                // Touching other walls too (a crease of separate walls), it rests against
+                // them as well: their contacts are not impacts again at every step.
+                let crease = crease(self.walls, seg.wall, seg.x, r);
+                if crease.is_empty() {
+                    self.slide_on_wall(field, r, seg, h, n)
                 } else {
-                    let n1 = g.normal;
-                    let (x, v) = (x - g.gap * n1, v - v.dot(n1) * n1);
-                    // A resting particle ignores contacts with its own wall, so sliding along
-                    // one face must not take it through another face of that wall (into a box's
-                    // corner, across a mesh's crease): it stops there.
-                    let (x, v, _) = push_out(wall, x, v, r);
-                    Flight { x, v, state: State::Resting }
+                    self.slide_in_crease(field, r, seg, h, n, &crease)
                 }
             }
         }
+    }
+
+    /// A resting particle slides along its wall, of normal `n` at the segment's start, under
+    /// `field` for `h` (s); it is free once more than [`FALL_AWAY`] from it.
+    fn slide_on_wall(&self, field: &M::Field<DVec3>, r: f64, seg: &Segment, h: f64, n: DVec3) -> Flight {
+        let wall = &self.walls[seg.wall as usize].shape;
+        let slide = Tangential { inner: field, n };
+        let (x, v) = self.motion.advance(&slide, seg.x, seg.v - seg.v.dot(n) * n, h);
+        let g = wall.gap(x, r);
+        if g.gap > FALL_AWAY * r {
+            Flight { x, v, state: State::Free }
+        } else {
+            let n1 = g.normal;
+            let (x, v) = (x - g.gap * n1, v - v.dot(n1) * n1);
+            // A resting particle ignores contacts with its own wall, so sliding along
+            // one face must not take it through another face of that wall (into a box's
+            // corner, across a mesh's crease): it stops there.
+            let (x, v, _) = push_out(wall, x, v, r);
+            Flight { x, v, state: State::Resting }
+        }
+    }
+
+    /// A resting particle (on its wall, of normal `n`) that also touches the walls of `crease`
+    /// at the segment's start: pressed into none of them (moving into one, or moving along it
+    /// and pushed into it), it slides on its wall and is kept out of them; pressed into one, it
+    /// slides along the crease line of the two and stays on both; pressed into more with no
+    /// crease line leading away from the rest (a corner), it stops.
+    fn slide_in_crease(
+        &self,
+        field: &M::Field<DVec3>,
+        r: f64,
+        seg: &Segment,
+        h: f64,
+        n: DVec3,
+        crease: &Crease,
+    ) -> Flight {
+        let own = &self.walls[seg.wall as usize].shape;
+        let v0 = seg.v - seg.v.dot(n) * n;
+        let a0 = Tangential { inner: field, n }.eval(seg.x, v0).total(v0);
+        // Beyond round-off: on a crease line both dot products are zero to the last bits.
+        let (tol_v, tol_a) = (1e-12 * v0.length(), 1e-9 * a0.length());
+        let into = |d: DVec3, m: DVec3| d.dot(m) < -tol_v.max(1e-12 * d.length());
+        let pressed = |m: DVec3| {
+            let vm = v0.dot(m);
+            vm < -tol_v || (vm <= tol_v && a0.dot(m) < -tol_a)
+        };
+        let lines: Vec<(u32, DVec3)> = crease
+            .iter()
+            .filter(|&(_, m)| pressed(m))
+            .filter_map(|(w, m)| {
+                let t = n.cross(m);
+                // Nearly one plane: sliding on its own wall keeps it out of the other.
+                (t.length() >= FLAT_CREASE).then(|| (w, t.normalize()))
+            })
+            .collect();
+        // Out of each wall in turn, until none is overlapped: pushed out of one wall of a
+        // crease, a particle may be pushed into the other (a faceted mesh's normal jumps).
+        let keep_out = |mut x: DVec3, mut v: DVec3| {
+            for _ in 0..64 {
+                let mut moved;
+                (x, v, moved) = push_out(own, x, v, r);
+                for (w, _) in crease.iter() {
+                    let m;
+                    (x, v, m) = push_out(&self.walls[w as usize].shape, x, v, r);
+                    moved |= m;
+                }
+                if !moved {
+                    break;
+                }
+            }
+            (x, v)
+        };
+        if lines.is_empty() && !crease.more {
+            let f = self.slide_on_wall(field, r, seg, h, n);
+            if f.state == State::Free {
+                return f;
+            }
+            let (x, v) = keep_out(f.x, f.v);
+            return Flight { x, v, state: State::Resting };
+        }
+        // The crease line whose motion (the velocity along it, or from rest the push along
+        // it) goes into none of the other walls touched.
+        let line = lines.iter().copied().find(|&(w, t)| {
+            let along = v0.dot(t);
+            let d = if along.abs() > tol_v { along * t } else { a0.dot(t) * t };
+            crease.iter().filter(|&(o, _)| o != w).all(|(_, m)| !into(d, m))
+        });
+        let Some((w, t)) = line.filter(|_| !crease.more) else {
+            // Wedged: at rest where it is.
+            return Flight { x: seg.x, v: DVec3::ZERO, state: State::Resting };
+        };
+        let other = &self.walls[w as usize].shape;
+        let (x, v) = self.motion.advance(&Along { inner: field, t }, seg.x, v0.dot(t) * t, h);
+        if own.gap(x, r).gap > FALL_AWAY * r {
+            return Flight { x, v, state: State::Free };
+        }
+        let (x, v) = if other.gap(x, r).gap > FALL_AWAY * r {
+            // The other wall ended (a column's end, a baffle's rim): on its own wall alone.
+            let g = own.gap(x, r);
+            (x - g.gap * g.normal, v - v.dot(g.normal) * g.normal)
+        } else {
+            // Back onto both: the straight line leaves curved walls to second order.
+            let (x, t1) = onto_crease(own, other, x, r);
+            (x, v.dot(t1) * t1)
+        };
+        let (x, v) = keep_out(x, v);
+        Flight { x, v, state: State::Resting }
     }
 
     /// Stage 2 for one particle of kind `k` and diameter `d` (m): from `max(t0, t_release)` to

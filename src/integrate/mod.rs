@@ -170,6 +170,25 @@ impl<F: ForceField> ForceField for Tangential<'_, F> {
     }
 }
 
+/// A force field with every part across a line removed: a particle resting in the crease of two
+/// walls slides along their common tangent, the unit `t`.
+#[derive(Debug, Clone, Copy)]
+pub struct Along<'a, F> {
+    /// The unconstrained field.
+    pub inner: &'a F,
+    /// Unit direction of the crease line.
+    pub t: DVec3,
+}
+
+impl<F: ForceField> ForceField for Along<'_, F> {
+    #[inline]
+    fn eval(&self, x: DVec3, v: DVec3) -> Linear {
+        let l = self.inner.eval(x, v);
+        let t = self.t;
+        Linear { explicit: l.explicit.dot(t) * t, inv_tau: l.inv_tau, u: l.u.dot(t) * t }
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -11,6 +11,7 @@
 //! gives normals off by up to π/N. Meshes go through parry's `TriMesh` and `cast_shapes`.
 
 mod annulus;
+mod crease;
 mod cuboid;
 mod cylinder;
 mod mesh;
@@ -18,6 +19,7 @@ mod plane;
 mod solid;
 
 pub use annulus::annulus_mesh;
+pub use crease::{CREASE_TOUCHING, Crease, FLAT_CREASE, crease, onto_crease};
 pub use cuboid::Cuboid;
 pub use cylinder::Cylinder;
 pub use mesh::{MeshError, MeshWall, load_mesh};

@@ -11,7 +11,7 @@ use crate::contact::{
 };
 use crate::flight::{Motion, NO_MEMORY, Segment};
 use crate::particles::{NO_WALL, Particles, State};
-use crate::walls::{Surface, contact_part};
+use crate::walls::{CREASE_TOUCHING, Surface, contact_part};
 use glam::DVec3;
 
 impl<'a, M: Motion> Ctx<'a, M> {
@@ -77,6 +77,13 @@ impl<'a, M: Motion> Ctx<'a, M> {
         // Every path after a contact starts with an empty memory (PHYSICS.md §10).
         let memory = NO_MEMORY;
         let seg = match impact.outcome {
+            // A particle resting on another wall that rebounds along it or into it (a bead
+            // sliding on a floor into a side wall, or down a cone into a column wall) has not
+            // left it: it slides on, rather than landing on it again at once.
+            Outcome::Bounced if self.stays_on_its_wall(tr, w, xc, impact.velocity) => {
+                let own = tr.seg.wall;
+                Segment { t, x: xc, v: impact.velocity, state: State::Resting, wall: own, memory }
+            }
             Outcome::Bounced => {
                 Segment { t, x: xc, v: impact.velocity, state: State::Free, wall: NO_WALL, memory }
             }
@@ -96,6 +103,17 @@ impl<'a, M: Motion> Ctx<'a, M> {
         };
         tr.wall = seg.wall;
         self.restart(tr, seg, t1);
+    }
+
+    /// Whether `tr`, resting on a wall other than `w` and rebounding off `w` at `x` with
+    /// velocity `v`, does not leave its own wall (`v` along it or into it, to round-off).
+    fn stays_on_its_wall(&self, tr: &Track<M>, w: u32, x: DVec3, v: DVec3) -> bool {
+        if tr.seg.state != State::Resting || tr.seg.wall == w {
+            return false;
+        }
+        let own = &self.walls()[tr.seg.wall as usize].shape;
+        let g = own.gap(x, tr.r());
+        g.gap <= CREASE_TOUCHING * tr.r() && v.dot(g.normal) <= 1e-12 * v.length()
     }
 
     /// Applies the pair rule to `a` and `b` (`a` the lower index) touching at time `t`; a

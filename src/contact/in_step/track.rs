@@ -6,7 +6,7 @@ use crate::contact::detect::end_of_step::detect_at_end;
 use crate::contact::{ImpactLocation, locate_on_path};
 use crate::flight::{Flight, Motion, NO_MEMORY, Segment};
 use crate::particles::{Next, Particles, State};
-use crate::walls::{Crossing, Surface, parts_slid_along};
+use crate::walls::{Crease, Crossing, Surface, crease, parts_slid_along};
 use glam::DVec3;
 
 /// Gap (fraction of the radius) within which a part of a wall counts as touched at the start of
@@ -107,10 +107,19 @@ impl<'a, M: Motion> Ctx<'a, M> {
             return None;
         }
         let (seg, r, h) = (&tr.seg, tr.r(), t1 - tr.seg.t);
+        // A resting particle rests against its wall and the others of its crease: the flight
+        // kernel keeps it out of them.
+        let crease = if seg.state == State::Resting {
+            crease(self.walls(), seg.wall, seg.x, r)
+        } else {
+            Crease::default()
+        };
         self.walls()
             .iter()
             .enumerate()
-            .filter(|&(w, _)| !(seg.state == State::Resting && seg.wall == w as u32))
+            .filter(|&(w, _)| {
+                !(seg.state == State::Resting && (seg.wall == w as u32 || crease.contains(w as u32)))
+            })
             .filter_map(|(w, wall)| {
                 if !wall.shape.may_touch(seg.x, tr.end.x, r) {
                     return None;
