@@ -8,6 +8,7 @@
 //! A refusal must come from the reader's own checks: an error of the last resort (a panic
 //! inside vtkio, caught) would mean that some input reached vtkio unvetted.
 
+mod common;
 use base64::Engine;
 use base64::engine::general_purpose::STANDARD as B64;
 use proptest::prelude::*;
@@ -19,32 +20,7 @@ use wetbounce::fluid::field::read::{Request, load};
 /// The error of the last resort: vtkio panicked and the panic was caught.
 const LAST_RESORT: &str = "the VTK reader (vtkio) failed on it";
 
-fn scene(flow: &str) -> String {
-    format!(
-        r#"
-[simulation]
-dt = 1e-3
-duration = 0.01
-output_interval = 0.01
-
-[fluid]
-density = 997.0
-viscosity = 0.89e-3
-flow = {flow}
-
-[effects]
-gravity = {{}}
-drag = {{}}
-
-[[kinds]]
-name = "glass"
-type = "solid"
-density = 2500.0
-youngs_modulus = 6e10
-poisson_ratio = 0.23
-"#
-    )
-}
+use common::field_scene as scene;
 
 fn field(file: &str) -> String {
     format!(r#"{{ type = "field", file = "{file}" }}"#)

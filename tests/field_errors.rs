@@ -1,36 +1,12 @@
 //! Bad flow fields are refused with an error naming the key, the file and what is wrong
 //! (issue 14, "Bad input"), never a panic.
 
+mod common;
 use std::path::Path;
 use vtkio::model::*;
 use wetbounce::{Scene, SceneError};
 
-fn scene(flow: &str) -> String {
-    format!(
-        r#"
-[simulation]
-dt = 1e-3
-duration = 0.01
-output_interval = 0.01
-
-[fluid]
-density = 997.0
-viscosity = 0.89e-3
-flow = {flow}
-
-[effects]
-gravity = {{}}
-drag = {{}}
-
-[[kinds]]
-name = "glass"
-type = "solid"
-density = 2500.0
-youngs_modulus = 6e10
-poisson_ratio = 0.23
-"#
-    )
-}
+use common::field_scene as scene;
 
 /// An image of 3 × `ny` × 3 points at 0.5 m with point array `name` of `comps` components,
 /// every value `value`.

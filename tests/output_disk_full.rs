@@ -6,7 +6,7 @@
 mod outputs_common;
 
 use outputs_common::*;
-use std::path::Path;
+use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 
 const FULL: &str = "No space left on device (os error 28)";
@@ -148,36 +148,9 @@ fn a_file_that_cannot_grow_mid_run_stops_the_run_naming_it_and_the_rest_is_kept(
 #[test]
 fn a_disk_that_fills_mid_run_stops_it_with_each_file_named_and_what_was_written_readable() {
     let dir = tempfile::tempdir().unwrap();
-    let scene = scene_with("tests/scenes/pour_200.toml", "pour.toml", dir.path(), &[("duration", "0.5")]);
-    let (mnt, keep) = (dir.path().join("mnt"), dir.path().join("keep"));
-    std::fs::create_dir_all(&mnt).unwrap();
-    std::fs::create_dir_all(&keep).unwrap();
     // --allow-large-output: the run is estimated at 1.8 MB, so without it the run would be
     // refused before it starts (the next test); here the disk must fill mid-run.
-    let script = r#"mount -t tmpfs -o size=256k tmpfs "$MNT" || exit 99
-"$BIN" run "$SCENE" --formats mcap,csv --quiet --threads 1 --allow-large-output --out "$MNT/o"
-status=$?
-cp -a "$MNT/o/." "$KEEP/"
-exit $status"#;
-    let out = Command::new("unshare")
-        .args(["-m", "sh", "-c", script])
-        .env("MNT", &mnt)
-        .env("KEEP", &keep)
-        .env("BIN", env!("CARGO_BIN_EXE_wetbounce"))
-        .env("SCENE", &scene)
-        .output();
-    let out = match out {
-        Ok(out)
-            if out.status.code() != Some(99)
-                && !String::from_utf8_lossy(&out.stderr).contains("unshare:") =>
-        {
-            out
-        }
-        other => {
-            eprintln!("skipped: cannot mount a tmpfs in a mount namespace here ({other:?})");
-            return;
-        }
-    };
+    let Some((out, mnt, keep)) = run_on_a_small_tmpfs(dir.path(), "--allow-large-output") else { return };
     let stderr = String::from_utf8_lossy(&out.stderr);
     assert_eq!(out.status.code(), Some(1), "{stderr}");
     let named = errors_named(&stderr, &mnt.join("o"), FULL);
@@ -200,34 +173,7 @@ exit $status"#;
 #[test]
 fn a_run_whose_estimated_output_exceeds_the_free_disk_space_is_refused_before_it_writes() {
     let dir = tempfile::tempdir().unwrap();
-    let scene = scene_with("tests/scenes/pour_200.toml", "pour.toml", dir.path(), &[("duration", "0.5")]);
-    let (mnt, keep) = (dir.path().join("mnt"), dir.path().join("keep"));
-    std::fs::create_dir_all(&mnt).unwrap();
-    std::fs::create_dir_all(&keep).unwrap();
-    let script = r#"mount -t tmpfs -o size=256k tmpfs "$MNT" || exit 99
-"$BIN" run "$SCENE" --formats mcap,csv --quiet --threads 1 --out "$MNT/o"
-status=$?
-cp -a "$MNT/o/." "$KEEP/"
-exit $status"#;
-    let out = Command::new("unshare")
-        .args(["-m", "sh", "-c", script])
-        .env("MNT", &mnt)
-        .env("KEEP", &keep)
-        .env("BIN", env!("CARGO_BIN_EXE_wetbounce"))
-        .env("SCENE", &scene)
-        .output();
-    let out = match out {
-        Ok(out)
-            if out.status.code() != Some(99)
-                && !String::from_utf8_lossy(&out.stderr).contains("unshare:") =>
-        {
-            out
-        }
-        other => {
-            eprintln!("skipped: cannot mount a tmpfs in a mount namespace here ({other:?})");
-            return;
-        }
-    };
+    let Some((out, _mnt, keep)) = run_on_a_small_tmpfs(dir.path(), "") else { return };
     let stderr = String::from_utf8_lossy(&out.stderr);
     assert_eq!(out.status.code(), Some(1), "{stderr}");
     assert!(
@@ -240,4 +186,40 @@ exit $status"#;
     );
     let left: Vec<_> = std::fs::read_dir(&keep).unwrap().collect();
     assert!(left.is_empty(), "nothing written: {left:?}");
+}
+
+/// Runs the 200-bead pour (0.5 s) with `--formats mcap,csv` and `extra` (flags) into a 256 KiB
+/// tmpfs mounted in a mount namespace of its own, copying what it wrote to `dir/keep`; returns
+/// the run's output, the mount point and the copy, or `None` (and says "skipped") where a mount
+/// is not allowed.
+fn run_on_a_small_tmpfs(dir: &Path, extra: &str) -> Option<(Output, PathBuf, PathBuf)> {
+    let scene = scene_with("tests/scenes/pour_200.toml", "pour.toml", dir, &[("duration", "0.5")]);
+    let (mnt, keep) = (dir.join("mnt"), dir.join("keep"));
+    std::fs::create_dir_all(&mnt).unwrap();
+    std::fs::create_dir_all(&keep).unwrap();
+    let script = r#"mount -t tmpfs -o size=256k tmpfs "$MNT" || exit 99
+"$BIN" run "$SCENE" --formats mcap,csv --quiet --threads 1 $EXTRA --out "$MNT/o"
+status=$?
+cp -a "$MNT/o/." "$KEEP/"
+exit $status"#;
+    let out = Command::new("unshare")
+        .args(["-m", "sh", "-c", script])
+        .env("MNT", &mnt)
+        .env("KEEP", &keep)
+        .env("BIN", env!("CARGO_BIN_EXE_wetbounce"))
+        .env("SCENE", &scene)
+        .env("EXTRA", extra)
+        .output();
+    match out {
+        Ok(out)
+            if out.status.code() != Some(99)
+                && !String::from_utf8_lossy(&out.stderr).contains("unshare:") =>
+        {
+            Some((out, mnt, keep))
+        }
+        other => {
+            eprintln!("skipped: cannot mount a tmpfs in a mount namespace here ({other:?})");
+            None
+        }
+    }
 }

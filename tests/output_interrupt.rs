@@ -340,13 +340,7 @@ fn recover_rewrites_a_complete_mcap_message_for_message_and_says_it_was_complete
 #[test]
 fn recover_reads_every_whole_chunk_of_an_mcap_cut_anywhere() {
     let dir = tempfile::tempdir().unwrap();
-    let out = wetbounce()
-        .args(["run", "scenes/toluene_drop.toml", "--quiet", "--output-interval", "0.05", "--out"])
-        .arg(dir.path())
-        .output()
-        .unwrap();
-    assert!(out.status.success());
-    let bytes = std::fs::read(dir.path().join("toluene_drop.mcap")).unwrap();
+    let bytes = drop_mcap(dir.path(), "0.05");
     let summary = mcap::Summary::read(&bytes).unwrap().unwrap();
     let all: Vec<(u64, Vec<u8>)> = mcap::MessageStream::new(&bytes)
         .unwrap()
@@ -431,13 +425,7 @@ fn recover_refuses_to_write_over_its_input_under_another_name() {
 #[test]
 fn recover_of_an_mcap_whose_lengths_lie_allocates_nothing_of_that_size_and_leaves_no_partial_file() {
     let dir = tempfile::tempdir().unwrap();
-    let out = wetbounce()
-        .args(["run", "scenes/toluene_drop.toml", "--quiet", "--output-interval", "0.1", "--out"])
-        .arg(dir.path())
-        .output()
-        .unwrap();
-    assert!(out.status.success());
-    let bytes = std::fs::read(dir.path().join("toluene_drop.mcap")).unwrap();
+    let bytes = drop_mcap(dir.path(), "0.1");
     let summary = mcap::Summary::read(&bytes).unwrap().unwrap();
     let chunk = summary.chunk_indexes[0].chunk_start_offset as usize;
     // A chunk record: opcode, record length (u64), start and end times (u64), uncompressed
@@ -493,4 +481,15 @@ fn recover_of_an_mcap_whose_lengths_lie_allocates_nothing_of_that_size_and_leave
     let run = wetbounce().arg("recover").arg(&input).arg(&output).output().unwrap();
     assert_eq!(run.status.code(), Some(1));
     assert!(!output.exists(), "a failed recovery left {}", output.display());
+}
+
+/// The closed MCAP of the Fig. 6 drop with frames every `interval` (s), written into `dir`.
+fn drop_mcap(dir: &Path, interval: &str) -> Vec<u8> {
+    let out = wetbounce()
+        .args(["run", "scenes/toluene_drop.toml", "--quiet", "--output-interval", interval, "--out"])
+        .arg(dir)
+        .output()
+        .unwrap();
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    std::fs::read(dir.join("toluene_drop.mcap")).unwrap()
 }

@@ -394,6 +394,19 @@ fn random_fill_seed_of_2_to_the_63_is_refused_as_the_docs_say() {
     assert_error(&refused(&fill("9223372036854775808")), "random_fill[0].seed", &["2^63 - 1"]);
 }
 
+/// `wetbounce run SCENE --quiet --formats FORMATS --out OUT`, which must succeed; its stderr.
+fn run_quietly(scene: &Path, formats: &str, out: &Path) -> String {
+    let o = wetbounce()
+        .arg("run")
+        .arg(scene)
+        .args(["--quiet", "--formats", formats, "--out"])
+        .arg(out)
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    String::from_utf8_lossy(&o.stderr).into_owned()
+}
+
 #[test]
 fn rerun_with_fewer_formats_removes_the_stale_outputs_of_the_earlier_run() {
     let dir = tempfile::tempdir().unwrap();
@@ -404,17 +417,7 @@ fn rerun_with_fewer_formats_removes_the_stale_outputs_of_the_earlier_run() {
     )
     .unwrap();
     let out = dir.path().join("out");
-    let run = |formats: &str| {
-        let o = wetbounce()
-            .arg("run")
-            .arg(&scene)
-            .args(["--quiet", "--formats", formats, "--out"])
-            .arg(&out)
-            .output()
-            .unwrap();
-        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
-        String::from_utf8_lossy(&o.stderr).into_owned()
-    };
+    let run = |formats: &str| run_quietly(&scene, formats, &out);
     run("mcap,csv");
     assert!(out.join("events.csv").exists() && out.join("bead.mcap").exists());
     let stderr = run("mcap");
@@ -434,17 +437,7 @@ fn rerun_into_the_same_folder_leaves_no_vtk_frame_the_new_pvd_does_not_list() {
             .replace("output_interval = 1e-3", &format!("output_interval = {interval}"))
     };
     let out = dir.path().join("out");
-    let run = |formats: &str| {
-        let o = wetbounce()
-            .arg("run")
-            .arg(&scene)
-            .args(["--quiet", "--formats", formats, "--out"])
-            .arg(&out)
-            .output()
-            .unwrap();
-        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
-        String::from_utf8_lossy(&o.stderr).into_owned()
-    };
+    let run = |formats: &str| run_quietly(&scene, formats, &out);
     let frames = || -> Vec<String> {
         let mut names: Vec<String> = std::fs::read_dir(out.join("bead_vtk"))
             .map(|d| d.map(|e| e.unwrap().file_name().to_string_lossy().into_owned()).collect())

@@ -226,6 +226,24 @@ const VELOCITY_TOLERANCE: f64 = 1e-2;
 const FRICTION_VELOCITY_SWEEPS: usize = 100;
 const FRICTION_VELOCITY_TOLERANCE: f64 = 1e-4;
 
+/// The neighbour pairs that overlap by more than `TOLERANCE` of their reach (the sum of the
+/// radii, `reach_of`) and are not in `known`, as new resting contacts.
+fn new_overlaps(
+    neighbour_pairs: &[[u32; 2]],
+    x: &[DVec3],
+    reach_of: &impl Fn(u32, u32) -> f64,
+    known: &crate::contact::FastSet<[u32; 2]>,
+) -> Vec<LastingContact> {
+    neighbour_pairs
+        .iter()
+        .filter(|&&[a, b]| {
+            (x[b as usize] - x[a as usize]).length() < reach_of(a, b) * (1.0 - TOLERANCE)
+                && !known.contains(&[a, b])
+        })
+        .map(|&[a, b]| LastingContact::resting(a, b))
+        .collect()
+}
+
 /// Keeps every lasting contact at the end of the step (writes `next.pos` and `next.vel`).
 /// A neighbour pair found overlapping — left so by the events (a particle knocked off its course
 /// into a neighbour that was not a candidate), or by this projection pushing a particle into a
@@ -257,14 +275,7 @@ pub(crate) fn keep_lasting<M: Motion>(
     let mut known: crate::contact::FastSet<[u32; 2]> = contacts.iter().map(|c| [c.a, c.b]).collect();
     for round in 0..ROUNDS {
         let before = contacts.len();
-        let found: Vec<LastingContact> = neighbour_pairs
-            .iter()
-            .filter(|&&[a, b]| {
-                (x[b as usize] - x[a as usize]).length() < reach_of(a, b) * (1.0 - TOLERANCE)
-                    && !known.contains(&[a, b])
-            })
-            .map(|&[a, b]| LastingContact::resting(a, b))
-            .collect();
+        let found = new_overlaps(neighbour_pairs, x, &reach_of, &known);
         known.extend(found.iter().map(|c| [c.a, c.b]));
         contacts.extend(found);
         if contacts.is_empty() {
@@ -339,14 +350,7 @@ pub(crate) fn keep_lasting<M: Motion>(
         let mut all: Vec<LastingContact> = Vec::new();
         let mut moved: Vec<usize> = Vec::new();
         for round in 0..ROUNDS + 1 {
-            let overlapping: Vec<LastingContact> = neighbour_pairs
-                .iter()
-                .filter(|&&[a, b]| {
-                    (x[b as usize] - x[a as usize]).length() < reach_of(a, b) * (1.0 - TOLERANCE)
-                        && !known.contains(&[a, b])
-                })
-                .map(|&[a, b]| LastingContact::resting(a, b))
-                .collect();
+            let overlapping = new_overlaps(neighbour_pairs, x, &reach_of, &known);
             if round > 0 && overlapping.is_empty() {
                 break;
             }

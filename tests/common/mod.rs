@@ -78,3 +78,32 @@ pub fn run_collect(sim: &mut Simulation, t_end: f64) -> Vec<wetbounce::ContactEv
     }
     events
 }
+
+/// A scene of glass beads in water (gravity and drag only, no wall, 10 steps of 1 ms) whose
+/// `fluid.flow` is `flow`: what the field-file tests load their fields into.
+pub fn field_scene(flow: &str) -> String {
+    format!(
+        r#"
+[simulation]
+dt = 1e-3
+duration = 0.01
+output_interval = 0.01
+
+[fluid]
+density = 997.0
+viscosity = 0.89e-3
+flow = {flow}
+
+[effects]
+gravity = {{}}
+drag = {{}}
+
+[[kinds]]
+name = "glass"
+type = "solid"
+density = 2500.0
+youngs_modulus = 6e10
+poisson_ratio = 0.23
+"#
+    )
+}
