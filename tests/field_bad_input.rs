@@ -750,6 +750,12 @@ proptest! {
         // The last bytes are a closing tag's newline: cut before the root closes.
         let end = bytes.len() - 12;
         let cut = at.index(end);
+        // The legacy file holds the velocity twice, as cell data and then as point data: cut
+        // just before `POINT_DATA` it is a whole file with cell data only, which is read (as
+        // it should be). Every other cut leaves a part of a section.
+        if let Some(point_data) = bytes.windows(10).position(|w| w == b"POINT_DATA") {
+            prop_assume!(which != 4 || !(point_data - 1..=point_data).contains(&cut));
+        }
         let dir = tempfile::tempdir().unwrap();
         let path = dir.path().join(names[which]);
         std::fs::write(&path, &bytes[..cut]).unwrap();
