@@ -6,7 +6,7 @@
 //! (`rapier_dilute_step`), and for wetbounce stepping the same scene in the same run on pools of
 //! 1 and 2 threads (`wetbounce_dilute_step`), so the ratio is measured under one machine load.
 //! `cargo run --release --bin step_rate -- scenes/bench_dilute.toml 2000 1` (and `... 2000 2`)
-//! gives wetbounce's figure the way the README's other rows were measured.
+//! gives wetbounce's figure the way docs/performance.md's other rows were measured.
 //!
 //! The scene is the same as wetbounce's: the bead positions and sizes, the bead density, the step
 //! and the fluid come from `scenes/bench_dilute.toml` itself; the box's bounds are copied from

@@ -41,7 +41,7 @@ fn bed_of_300_beads_with_friction_ends_with_every_bead_below_a_micrometre_per_se
 
 /// The shipped 2000-bead bed (3 s): measured at its end, the fastest bead moves at 2.7e-10 m/s,
 /// after 109 s of CPU (`/usr/bin/time -v target/release/rest scenes/settling_bed_friction.toml
-/// 0.5`; README, "Speed with rotation and friction"). The longest test in CI, about two minutes.
+/// 0.5`; docs/performance.md, "Speed with rotation and friction"). The longest test in CI, about two minutes.
 #[test]
 fn settling_bed_with_friction_ends_with_every_bead_below_a_micrometre_per_second() {
     let (id, x, v) = fastest_at_the_end("scenes/settling_bed_friction.toml", 2000);

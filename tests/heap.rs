@@ -75,7 +75,7 @@ stop = 1.0
 /// with μ = 0.5). Its height does not: the same beads poured the same way stand as a taller,
 /// hence steeper, cone with more friction (7.45–8.78 mm with μ = 0.2, 8.65–9.06 mm with
 /// μ = 0.5). So the test pours three piles with each μ and compares their mean height; the
-/// angle itself is compared on the shipped 1000-bead heaps (README, "Heaps").
+/// angle itself is compared on the shipped 1000-bead heaps (docs/heaps.md).
 #[test]
 fn a_heap_with_more_friction_stands_taller() {
     const SEEDS: [u64; 3] = [16, 17, 18];

@@ -1,7 +1,7 @@
 //! Draws a heap from the side: the beads of a slice one diameter thick through the pile's axis
 //! (vertical, through the centroid), as circles coloured by speed on a log scale, with the
-//! angle of repose `wetbounce::heap::angle_of_repose` measures on the whole pile — the README's
-//! heap pictures.
+//! angle of repose `wetbounce::heap::angle_of_repose` measures on the whole pile — the heap pictures of
+//! docs/heaps.md.
 //!
 //!     plot_heap OUT_STEM FINAL.csv TITLE [--font FILE.ttf]
 //!
