@@ -24,7 +24,9 @@ use crate::fluid::Fluid;
 use crate::integrate::{Along, ForceField, Tangential};
 use crate::numeric::lanes::{DVec3x4, F64x4, LANES, each};
 use crate::particles::{ParticleKind, State};
-use crate::walls::{Crease, FLAT_CREASE, Surface, Wall, crease, onto_crease, push_out};
+use crate::walls::{
+    CREASE_TOUCHING, Crease, FLAT_CREASE, Surface, Wall, crease, onto_crease, out_of_crease, push_out,
+};
 use glam::DVec3;
 
 /// Gap (in particle radii) beyond which a sliding particle has lost its wall: it went over a
@@ -305,27 +307,41 @@ impl<'a, M: Motion> Kernel<'a, M> {
                 (t.length() >= FLAT_CREASE).then(|| (w, t.normalize()))
             })
             .collect();
-        // Out of each wall in turn, until none is overlapped: pushed out of one wall of a
-        // crease, a particle may be pushed into the other (a faceted mesh's normal jumps).
-        let keep_out = |mut x: DVec3, mut v: DVec3| {
-            for _ in 0..64 {
-                let mut moved;
-                (x, v, moved) = push_out(own, x, v, r);
-                for (w, _) in crease.iter() {
-                    let m;
-                    (x, v, m) = push_out(&self.walls[w as usize].shape, x, v, r);
-                    moved |= m;
-                }
-                if !moved {
-                    break;
-                }
-            }
-            (x, v)
-        };
+        let keep_out = |x, v| out_of_crease(self.walls, seg.wall, crease, x, v, r);
         if lines.is_empty() && !crease.more {
             let f = self.slide_on_wall(field, r, seg, h, n);
             if f.state == State::Free {
                 return f;
+            }
+            // Sliding away from the other walls, it may be turned back within the step (by its
+            // weight) and reach one. Integrated through it and pushed back out afterwards, it
+            // kept the speed gained below the crease, which it never descended: an energy gain
+            // (docs/stability.md, R2-1). Instead it stops at the first instant it reaches one,
+            // found by bisection, its velocity into the walls of the crease lost as in a
+            // deposit, for the rest of the step.
+            let inside = |f: &Flight| {
+                crease
+                    .iter()
+                    .any(|(w, _)| self.walls[w as usize].shape.gap(f.x, r).gap < -CREASE_TOUCHING * r)
+            };
+            if f.state == State::Resting && inside(&f) {
+                let (mut before, mut after) = (0.0, h);
+                for _ in 0..52 {
+                    let mid = 0.5 * (before + after);
+                    if inside(&self.slide_on_wall(field, r, seg, mid, n)) {
+                        after = mid;
+                    } else {
+                        before = mid;
+                    }
+                }
+                let f = self.slide_on_wall(field, r, seg, before, n);
+                let mut v = f.v;
+                for (w, _) in crease.iter() {
+                    let m = self.walls[w as usize].shape.gap(f.x, r).normal;
+                    v -= v.dot(m).min(0.0) * m;
+                }
+                let (x, v) = keep_out(f.x, v);
+                return Flight { x, v, state: State::Resting };
             }
             let (x, v) = keep_out(f.x, f.v);
             return Flight { x, v, state: State::Resting };

@@ -2,7 +2,7 @@
 //! in the corner of a column and a conical baffle, between two planes in a V). The geometry
 //! here; the sliding along a crease is the flight kernel's ([`crate::flight`]).
 
-use super::{Surface, Wall};
+use super::{PUSH_OUT_TOLERANCE, Surface, Wall, push_out};
 use glam::DVec3;
 
 /// Gap (fraction of the radius) within which a particle resting on one wall counts as resting
@@ -90,6 +90,67 @@ pub fn onto_crease(a: &impl Surface, b: &impl Surface, mut x: DVec3, r: f64) -> 
     (x, line)
 }
 
+/// Moves a sphere of radius `r` at `x` out of its own wall `own` and the walls of `crease` at
+/// once, and removes its velocity `v` into them. Pushed out of each wall in turn, a sphere in a
+/// crease may be pushed back into the other (a faceted mesh's normal jumps too), and in a
+/// narrow crease that alternation converges slowly: each round shrinks the overlap by the
+/// square of the cosine between the normals, 0.88 per round in a 20° crease, which left a bead
+/// 2.4e-7 r inside a mesh after 64 rounds. So once a round leaves it overlapping one wall while
+/// touching another, it is put on the crease line of the two at once.
+pub fn out_of_crease(
+    walls: &[Wall],
+    own: u32,
+    crease: &Crease,
+    mut x: DVec3,
+    mut v: DVec3,
+    r: f64,
+) -> (DVec3, DVec3) {
+    let shape = |w: u32| &walls[w as usize].shape;
+    let mut all = [own; Crease::MAX + 1];
+    all[1..=crease.len].copy_from_slice(&crease.walls[..crease.len]);
+    let ids = all[..=crease.len].iter().copied();
+    for _ in 0..64 {
+        let mut moved = false;
+        for w in ids.clone() {
+            let m;
+            (x, v, m) = push_out(shape(w), x, v, r);
+            moved |= m;
+        }
+        if !moved {
+            break;
+        }
+        let over = ids.clone().find(|&w| shape(w).gap(x, r).gap < -PUSH_OUT_TOLERANCE * r);
+        let Some(a) = over else { break };
+        let na = shape(a).gap(x, r).normal;
+        let pair = ids.clone().filter(|&w| w != a).find(|&w| {
+            let g = shape(w).gap(x, r);
+            g.gap <= CREASE_TOUCHING * r && na.cross(g.normal).length() >= FLAT_CREASE
+        });
+        if let Some(b) = pair {
+            let (on, _) = onto_crease(shape(a), shape(b), x, r);
+            x = on;
+            v = out_of_both(v, shape(a).gap(x, r).normal, shape(b).gap(x, r).normal);
+        }
+    }
+    (x, v)
+}
+
+/// The velocity nearest `v` that goes into neither of two walls of normals `na` and `nb`: `v`
+/// itself, `v` less its part into one of them, or its part along their crease line.
+fn out_of_both(v: DVec3, na: DVec3, nb: DVec3) -> DVec3 {
+    let round_off = 1e-12 * v.length();
+    let clear = |u: DVec3| u.dot(na) >= -round_off && u.dot(nb) >= -round_off;
+    if clear(v) {
+        return v;
+    }
+    let t = na.cross(nb).normalize_or_zero();
+    [v - v.dot(na).min(0.0) * na, v - v.dot(nb).min(0.0) * nb, v.dot(t) * t]
+        .into_iter()
+        .filter(|&u| clear(u))
+        .min_by(|p, q| (*p - v).length_squared().total_cmp(&(*q - v).length_squared()))
+        .unwrap_or(DVec3::ZERO)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -116,5 +177,27 @@ mod tests {
         let (on, line) = onto_crease(&walls[0].shape, &walls[1].shape, x + DVec3::new(3e-5, 0.0, -2e-5), r);
         assert!(walls.iter().all(|w| w.shape.gap(on, r).gap.abs() < 1e-15), "{on:?}");
         assert!((line.cross(DVec3::Y)).length() < 1e-12, "{line:?}");
+    }
+
+    #[test]
+    fn a_sphere_inside_both_walls_of_a_narrow_crease_comes_out_of_both_at_once() {
+        // 20° between the walls: pushed out of each in turn, 64 rounds left 3.5e-4 of the overlap.
+        let half = 10f64.to_radians();
+        let (na, nb) = (DVec3::new(half.cos(), 0.0, half.sin()), DVec3::new(-half.cos(), 0.0, half.sin()));
+        let walls = [plane(DVec3::ZERO, na), plane(DVec3::ZERO, nb)];
+        let r = 1e-3;
+        let on_both = DVec3::new(0.0, 0.0, r / half.sin());
+        let c = crease(&walls, 0, on_both, r);
+        let (x, v) = out_of_crease(
+            &walls,
+            0,
+            &c,
+            on_both - DVec3::new(1e-4, 0.0, 1e-4),
+            DVec3::new(0.3, 0.2, -1.0),
+            r,
+        );
+        assert!(walls.iter().all(|w| w.shape.gap(x, r).gap >= -1e-12 * r), "{x:?}");
+        // Into both walls: only its part along the crease line is left.
+        assert!((v - DVec3::new(0.0, 0.2, 0.0)).length() < 1e-12, "{v:?}");
     }
 }

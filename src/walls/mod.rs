@@ -19,7 +19,7 @@ mod plane;
 mod solid;
 
 pub use annulus::annulus_mesh;
-pub use crease::{CREASE_TOUCHING, Crease, FLAT_CREASE, crease, onto_crease};
+pub use crease::{CREASE_TOUCHING, Crease, FLAT_CREASE, crease, onto_crease, out_of_crease};
 pub use cuboid::Cuboid;
 pub use cylinder::Cylinder;
 pub use mesh::{MeshError, MeshWall, load_mesh};
@@ -295,7 +295,7 @@ pub fn parts_slid_along(
 /// on while the overlap exceeds round-off ([`PUSH_OUT_TOLERANCE`] of the radius), up to this.
 const PUSH_OUT_ROUNDS: usize = 1024;
 /// Overlap (fraction of the radius) left to round-off after three rounds of [`push_out`].
-const PUSH_OUT_TOLERANCE: f64 = 1e-12;
+pub(crate) const PUSH_OUT_TOLERANCE: f64 = 1e-12;
 
 /// Moves a sphere of radius `r` at `x` out of `shape` and removes its velocity into it. Repeated
 /// because the gap names the nearest face only: in a box corner the sphere may overlap two or
