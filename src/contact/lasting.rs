@@ -1,4 +1,4 @@
-//! Stage 5b: lasting contacts between particles **[ext]** (docs/physics.md §5, pairs): a held pair
+//! Stage 5: lasting contacts between particles **[ext]** (docs/physics.md §5, pairs): a held pair
 //! moves together at its centre-of-mass velocity; a pair that met below `St_c` may not
 //! approach again. Both are kept by projection, Gauss–Seidel over the contacts in index order
 //! (deterministic), with the walls the particles touch.
