@@ -67,7 +67,7 @@ def main() -> None:
     ap.add_argument("--duration", type=float, default=14.0, help="simulated seconds per run")
     ap.add_argument("--jobs", type=int, default=1, help="runs at once, on threads")
     ap.add_argument("--out", type=Path, default=Path("out/contactor_flow_sweep.png"),
-                    help="the picture (docs/figures/contactor_flow_sweep.png redraws the README's)")
+                    help="the picture (docs/figures/contactor_flow_sweep.png redraws docs/python.md's)")
     args = ap.parse_args()
 
     base = wb.Scene.load(args.scene).with_values({

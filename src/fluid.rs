@@ -70,7 +70,7 @@ pub trait FlowField: Copy + Send + Sync {
     /// compiles the force without it.
     const ACCELERATES: bool = false;
     /// The fluid's material acceleration `Du/Dt = ∂u/∂t + (u·∇)u` at `x` (m/s²), for the
-    /// fluid-acceleration effect (PHYSICS.md §1); zero unless [`FlowField::ACCELERATES`].
+    /// fluid-acceleration effect (docs/physics.md §7.2); zero unless [`FlowField::ACCELERATES`].
     #[inline(always)]
     fn material_acceleration(&self, _x: DVec3) -> DVec3 {
         DVec3::ZERO
@@ -118,7 +118,7 @@ impl FlowField for Uniform {
 ///
 /// The flow is steady and unidirectional, and `u` varies only across the axis, so the
 /// convective acceleration `(u·∇)u` is zero as well as `∂u/∂t`: `Du/Dt = 0` everywhere, and
-/// the added-mass and fluid-acceleration terms need no extra code (PHYSICS.md §1).
+/// the added-mass and fluid-acceleration terms need no extra code (docs/physics.md §1).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Poiseuille {
     /// A point on the pipe's axis (m).
@@ -162,7 +162,7 @@ impl Flow {
     }
 
     /// Half the fluid's vorticity `½ ∇×u` at `x` (rad/s) **[ext]**: the spin a torque-free
-    /// sphere takes in the flow (PHYSICS.md §9). Zero in a quiescent or uniform flow; in the
+    /// sphere takes in the flow (docs/physics.md §9). Zero in a quiescent or uniform flow; in the
     /// pipe, with `u = u_max (1 − ρ²/R²) e` and `ρ` the distance from the axis,
     /// `∇×u = ∇u_z × e = −(2 u_max / R²) ρ⃗ × e`, so `½ ∇×u = (u_max / R²) e × ρ⃗` inside the
     /// pipe and 0 outside (where the flow is taken as still). In a field, the curl of the

@@ -2,8 +2,9 @@
 //!
 //! Particles — solid beads and liquid drops — moving through a liquid or a gas and bouncing on
 //! walls as immersed particles do, following Legendre, Zenit, Daniel & Guiraud, Chem. Eng. Sci.
-//! 61 (2006) 3543–3549. The physics is specified in `docs/physics.md` (cited as PHYSICS.md);
-//! this crate's rooms, from the bottom up (a lower one never names a higher one):
+//! 61 (2006) 3543–3549. The physics is specified in `docs/physics.md` (cited as
+//! "docs/physics.md §N"); this crate's rooms, from the bottom up (a lower one never names a
+//! higher one):
 //!
 //! - [`files`]: the rule every file read follows (a regular file, under a size cap);
 //! - [`numeric`]: four particles at once (lane groups) and fixed powers by tables;

@@ -375,7 +375,7 @@ fn check_scene(path: &Path, options: LoadOptions) -> Result<String, String> {
                 rule.beta, rule.st_critical, rule.tangential_restitution, rule.hold_at_contact
             );
         }
-        // With wall lubrication (PHYSICS.md §8): e of the impact speed, no beta, no St_c.
+        // With wall lubrication (docs/physics.md §8): e of the impact speed, no beta, no St_c.
         Some(e) => {
             let e = e.map_or("restitution_max".to_string(), |e| e.to_string());
             let _ = writeln!(

@@ -31,16 +31,16 @@ pub struct ParticleKind {
     /// Solid or drop.
     pub material: Material,
     /// Surface roughness `h_r` (m) **[ext]**: with the `wall_lubrication` effect, contact with
-    /// a wall is made at this gap plus the wall's roughness (PHYSICS.md §8); 0 when not given.
+    /// a wall is made at this gap plus the wall's roughness (docs/physics.md §8); 0 when not given.
     pub roughness: f64,
-    /// Friction keys of the kind **[ext]** (PHYSICS.md §9); all `None` when not given.
+    /// Friction keys of the kind **[ext]** (docs/physics.md §9); all `None` when not given.
     pub friction: FrictionMaterial,
     /// Held at a wall (or in a pair) for its contact time when it rebounds: the contact-time
-    /// effect names it, or names no kind (PHYSICS.md §5.3). False without the effect.
+    /// effect names it, or names no kind (docs/physics.md §5.3). False without the effect.
     pub held_at_contact: bool,
 }
 
-/// The friction keys of one surface (a particle kind or a wall) **[ext]**, PHYSICS.md §9: each
+/// The friction keys of one surface (a particle kind or a wall) **[ext]**, docs/physics.md §9: each
 /// `None` when the scene does not give it. How two surfaces' values combine is
 /// `contact::rules::friction::Friction::between`.
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
@@ -62,7 +62,7 @@ impl FrictionMaterial {
     }
 }
 
-/// Where a particle is in the bounce rule (PHYSICS.md §5).
+/// Where a particle is in the bounce rule (docs/physics.md §5).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 #[repr(u8)]
 pub enum State {
@@ -123,7 +123,7 @@ pub struct Particles {
     /// Velocity (m/s).
     pub vel: Vec<DVec3>,
     /// Angular velocity `ω` (rad/s) **[ext]**: stays zero in a scene without rotation
-    /// (PHYSICS.md §9), which never reads nor writes it in the step.
+    /// (docs/physics.md §9), which never reads nor writes it in the step.
     pub omega: Vec<DVec3>,
     /// Free, held or resting.
     pub state: Vec<State>,
@@ -141,7 +141,7 @@ pub struct Particles {
     pub born: Vec<f64>,
     /// With the history effect **[ext]** only (empty otherwise): each particle's memory of its
     /// past accelerations, [`Particles::memory_modes`] vectors per particle (m/s each: the
-    /// mode `F_k = ∫ e^{−λ_k (t − s)} dw/ds ds` of the slip `w`; PHYSICS.md §10).
+    /// mode `F_k = ∫ e^{−λ_k (t − s)} dw/ds ds` of the slip `w`; docs/physics.md §10).
     pub memory: Vec<DVec3>,
     /// Modes per particle in [`Particles::memory`]; 0 without the history effect.
     pub memory_modes: usize,
@@ -285,7 +285,7 @@ impl Particles {
         if self.memory_modes > 0 {
             std::mem::swap(&mut self.memory, &mut next.memory);
             // A particle held at a wall or resting on one remembers nothing: its flight after
-            // the release starts a new memory (PHYSICS.md §10, "impact, hold and release").
+            // the release starts a new memory (docs/physics.md §10, "impact, hold and release").
             let modes = self.memory_modes;
             for (s, m) in self.state.iter().zip(self.memory.chunks_exact_mut(modes)) {
                 if matches!(s, State::Held | State::Resting) {

@@ -1,5 +1,5 @@
 //! Every integrator, through the whole engine, against the closed-form Stokes settling
-//! solution of PHYSICS.md §1: from rest, `v(t) = V_t (1 − e^{−t/τ})`,
+//! solution of docs/physics.md §1: from rest, `v(t) = V_t (1 − e^{−t/τ})`,
 //! `τ = (ρp + C_M ρ) d² / (18 μ)`, in a uniform flow `u`: `v → u + V_t`.
 
 mod common;

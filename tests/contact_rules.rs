@@ -1,4 +1,4 @@
-//! The bounce rule's cases (PHYSICS.md §5) on simple geometries.
+//! The bounce rule's cases (docs/physics.md §5) on simple geometries.
 
 mod common;
 use common::fixture::BeadOnFloor;

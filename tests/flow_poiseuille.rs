@@ -1,4 +1,4 @@
-//! Poiseuille carrier flow: drag acts on the slip velocity `v − u(x)` (PHYSICS.md §1).
+//! Poiseuille carrier flow: drag acts on the slip velocity `v − u(x)` (docs/physics.md §1).
 
 mod common;
 

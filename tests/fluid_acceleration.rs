@@ -1,4 +1,4 @@
-//! The fluid-acceleration effect (PHYSICS.md §1 [ext], issue 14): `(1 + C_M) ρ Vp Du/Dt` in a
+//! The fluid-acceleration effect (docs/physics.md §7.1 [ext], issue 14): `(1 + C_M) ρ Vp Du/Dt` in a
 //! field flow, checked against the closed-form solution of the linear equations of a sphere in
 //! solid-body rotation with Stokes drag and added mass.
 //!

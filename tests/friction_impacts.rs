@@ -1,4 +1,4 @@
-//! Oblique impacts with friction (PHYSICS.md §9): Walton's impulse model against its closed
+//! Oblique impacts with friction (docs/physics.md §9): Walton's impulse model against its closed
 //! form, for walls and for pairs, and no impact that adds energy.
 
 mod common;
@@ -18,7 +18,7 @@ fn sphere(rho: f64, d: f64, v: DVec3, omega: DVec3) -> Spinning {
     }
 }
 
-/// The closed form of PHYSICS.md §9 with the factor `k` (7/2 for solid spheres in vacuum).
+/// The closed form of docs/physics.md §9 with the factor `k` (7/2 for solid spheres in vacuum).
 fn psi2_closed_form(psi1: f64, mu: f64, beta0: f64, e: f64, k: f64) -> (f64, bool) {
     if (1.0 + beta0) * psi1 <= k * mu * (1.0 + e) {
         (-beta0 * psi1, true)

@@ -1,4 +1,4 @@
-//! Lasting contacts with friction and the spin of a particle in a fluid (PHYSICS.md §9):
+//! Lasting contacts with friction and the spin of a particle in a fluid (docs/physics.md §9):
 //! rolling and sliding down an incline, spin relaxing at the Stokes rate.
 
 mod common;

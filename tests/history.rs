@@ -1,4 +1,4 @@
-//! The history effect (PHYSICS.md §10) through the whole engine: a sphere released from rest
+//! The history effect (docs/physics.md §10) through the whole engine: a sphere released from rest
 //! against the exact solution with history and added mass (`correlations::HistorySettling`, by
 //! Laplace transform), the order at which the flight converges to it, what the memory does at a
 //! bounce, and the scene keys refused.

@@ -1,4 +1,4 @@
-//! Particle–particle contacts **[ext]** (PHYSICS.md §2, §4, §5 for pairs).
+//! Particle–particle contacts **[ext]** (docs/physics.md §2, §4, §5 for pairs).
 
 mod common;
 use common::fixture::BeadOnFloor;
@@ -54,7 +54,7 @@ fn head_on_equal_drops_are_held_for_the_spring_time_then_released_at_eps_vn() {
     // Contact when the gap 10 mm − d closes at 0.2 m/s.
     assert!((e.time - (0.01 - D) / (2.0 * speed)).abs() < 1e-12, "t = {}", e.time);
     assert!((e.normal_speed - 2.0 * speed).abs() < 1e-12);
-    // Two equal springs in series and the reduced mass (PHYSICS.md §4 [ext]).
+    // Two equal springs in series and the reduced mass (docs/physics.md §4 [ext]).
     let m = (860.0 + ADDED_MASS_WALL * 997.0) * sphere_volume(D);
     let expected = spring_pair_contact_time(m, m, 0.026, 0.026);
     assert!((e.contact_time - expected).abs() < 1e-15);

@@ -55,7 +55,7 @@ fn drop_is_held_at_the_wall_for_the_contact_time() {
 
 #[test]
 fn second_impact_with_eps_max_0_91_st_c_10_in_water_at_25c_is_held_again() {
-    // PHYSICS.md §6: whether the drop bounces a second time depends on ε_max, St_c and the
+    // docs/physics.md §6: whether the drop bounces a second time depends on ε_max, St_c and the
     // fluid. With ε_max = 0.91, St_c = 10, water at 25 °C: the second impact comes at
     // St ≈ 12.5 > St_c, so it is held again, then the third is below St_c.
     let events = events_with_dt(1e-4);

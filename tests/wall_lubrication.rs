@@ -1,4 +1,4 @@
-//! The wall-lubrication effect and the `e` rule (PHYSICS.md §8): a bead slowed by the film of
+//! The wall-lubrication effect and the `e` rule (docs/physics.md §8): a bead slowed by the film of
 //! fluid under it, touching at the roughness, rebounding at `e` times its impact speed and
 //! leaving through the same film.
 
@@ -126,7 +126,7 @@ fn measured_eps(st: f64) -> (f64, Vec<wetbounce::ContactEvent>) {
     (0.0, events)
 }
 
-/// PHYSICS.md §8: with the `e` rule, the Stokes-number dependence comes from the lubrication.
+/// docs/physics.md §8: with the `e` rule, the Stokes-number dependence comes from the lubrication.
 /// At high St the bead hardly feels the film and `ε → e`; as St falls `ε` falls; at low St
 /// the film stops it: no rebound. Printed next to L06's `ε_max exp(−35/St)` (eq. 2).
 #[test]
@@ -234,7 +234,7 @@ proptest! {
     }
 }
 
-/// The hold still applies to drops (PHYSICS.md §5.3, §8): L06's 2.75 mm toluene drop rising
+/// The hold still applies to drops (docs/physics.md §5.3, §8): L06's 2.75 mm toluene drop rising
 /// to the top wall, with wall lubrication instead of L06's ε, is held for `t_c` (L06 eq. 5) at
 /// its first impact, then released at `e V_imp` away from the wall and leaves through the film.
 #[test]
@@ -270,7 +270,7 @@ fn toluene_drop_with_lubrication_is_held_for_t_c_then_leaves_at_e_of_its_impact_
     common::assert_clear_of_walls(&sim);
 }
 
-/// In a corner only the nearest wall's film acts (PHYSICS.md §8): beads thrown into the corner
+/// In a corner only the nearest wall's film acts (docs/physics.md §8): beads thrown into the corner
 /// of a 10 mm box, along the diagonal and just off it, fast and slow, stay inside, touch, and
 /// never gain energy at a contact, with a small and a large step.
 #[test]

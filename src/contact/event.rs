@@ -1,6 +1,6 @@
 //! Contact events: one per contact, for the sinks.
 
-/// What the bounce rule did at a contact (PHYSICS.md §5).
+/// What the bounce rule did at a contact (docs/physics.md §5).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 pub enum Outcome {
     /// Held at the wall for `t_c`, then released at `ε V∞`.
@@ -43,7 +43,7 @@ pub struct ContactEvent {
     /// Normal approach speed `V∞` at contact (m/s).
     pub normal_speed: f64,
     /// Tangential speed of the contact point, relative to the wall or the other particle, just
-    /// before the contact (m/s): `|v_ct|` of PHYSICS.md §9, with the spin's part
+    /// before the contact (m/s): `|v_ct|` of docs/physics.md §9, with the spin's part
     /// (`Ψ1 = tangential_speed / normal_speed`). **[ext]**
     pub tangential_speed: f64,
     /// Incidence angle (rad): of the centre's velocity relative to the wall or the other

@@ -1,4 +1,4 @@
-//! Stage 5b: lasting contacts between particles **[ext]** (PHYSICS.md §5, pairs): a held pair
+//! Stage 5: lasting contacts between particles **[ext]** (docs/physics.md §5, pairs): a held pair
 //! moves together at its centre-of-mass velocity; a pair that met below `St_c` may not
 //! approach again. Both are kept by projection, Gauss–Seidel over the contacts in index order
 //! (deterministic), with the walls the particles touch.
@@ -117,7 +117,7 @@ struct PairRow {
     friction: Option<FrictionRows>,
 }
 
-/// The friction rows of one contact **[ext]** (PHYSICS.md §9): Coulomb friction on the contact
+/// The friction rows of one contact **[ext]** (docs/physics.md §9): Coulomb friction on the contact
 /// point's slip and rolling resistance on the relative rolling, each an impulse accumulated over
 /// the sweeps (N s, and N m s, on `a`) and kept inside its cone: `|J_t| ≤ μ N`,
 /// `|L_r| ≤ μ_r R N`, `N` the contact's accumulated normal impulse plus `support`.

@@ -5,7 +5,7 @@
 //!   Verlet [`Neighbours`] list) and the time of impact on the curved path
 //!   ([`locate_on_path`]), or at the end of the step for the accuracy study
 //!   ([`ImpactLocation::EndOfStep`]);
-//! - [`rules`]: the bounce rule of PHYSICS.md §5 for a wall ([`wall_impact`]) and for a pair
+//! - [`rules`]: the bounce rule of docs/physics.md §5 for a wall ([`wall_impact`]) and for a pair
 //!   of particles ([`pair_impact`], **[ext]**), with the scene's [`BounceRule`];
 //! - `in_step`: the contacts inside a step — islands of particles that may touch, each
 //!   resolved event by event in time order from a queue, the rest of the step integrated from
@@ -89,7 +89,7 @@ impl<'a, M: Motion> Ctx<'a, M> {
 
     /// Moment of inertia (kg m²) of a particle of kind `k` and diameter `d`: `(2/5) ρp Vp a²`,
     /// without added mass (a sphere's added mass has no rotational part), for drops as for
-    /// solids (PHYSICS.md §9).
+    /// solids (docs/physics.md §9).
     pub fn moment_of(&self, k: usize, d: f64) -> f64 {
         sphere_moment_of_inertia(self.kinds[k].density, d)
     }

@@ -9,7 +9,7 @@ use glam::DVec3;
 /// The start of a particle's path in the step ending at `t1`, after the contacts that end:
 /// a particle held at a wall whose release time (`start.t`, which is `max(t0, release time)`)
 /// falls before `t1` is released at `v_release` (its path then starts at its release time),
-/// and a resting particle whose net force points away from its wall leaves it (PHYSICS.md
+/// and a resting particle whose net force points away from its wall leaves it (docs/physics.md
 /// §5.2). `(k, d)`: kind and diameter (m).
 #[inline(always)]
 pub(crate) fn release_at_wall<M: Motion>(

@@ -60,7 +60,7 @@ pub fn drop_contact_time(rho_p: f64, rho: f64, d: f64, sigma: f64) -> f64 {
     PI * (mass / stiffness).sqrt()
 }
 
-/// Hertz contact time of a pair **[ext]** (PHYSICS.md §4), in s:
+/// Hertz contact time of a pair **[ext]** (docs/physics.md §4), in s:
 /// `t = 2.87 (m*² / (a* E*² Vn))^(1/5)`, with reduced mass `m*` (kg), reduced radius `a*` (m),
 /// effective modulus `1/E* = Σ (1−νi²)/Ei` given as `compliance = 1/E*` (1/Pa), and relative
 /// normal speed `vn` (m/s). With `a2 = ∞`, `m2 = ∞` it reduces to L06 eq. 3.
@@ -69,7 +69,7 @@ pub fn hertz_pair_contact_time(m_red: f64, a_red: f64, compliance: f64, vn: f64)
     2.87 * (m_red * m_red / (a_red * e_star * e_star * vn)).powf(0.2)
 }
 
-/// Contact time of two drops **[ext]** (PHYSICS.md §4): two springs `K_i = 16π σ_i / 5` in
+/// Contact time of two drops **[ext]** (docs/physics.md §4): two springs `K_i = 16π σ_i / 5` in
 /// series and the reduced mass, half a period `π sqrt(m*/K)`, in s. `m1, m2` the drops'
 /// wall-added-mass-inclusive masses (kg), `sigma1, sigma2` their interfacial tensions (N/m).
 pub fn spring_pair_contact_time(m1: f64, m2: f64, sigma1: f64, sigma2: f64) -> f64 {

@@ -1,11 +1,11 @@
-//! **[ext]** The Basset–Boussinesq history force (PHYSICS.md §10): its coefficient, bounded-memory
-//! sums of exponentials for its `1/√t` kernel, and the exact solution of a sphere released from
-//! rest in a still fluid, against which a history-force integrator can be tested.
+//! **[ext]** The Basset–Boussinesq history force (docs/physics.md §10): its coefficient,
+//! bounded-memory sums of exponentials for its `1/√t` kernel, and the exact solution of a sphere
+//! released from rest in a still fluid, against which a history-force integrator can be tested.
 
 use super::faddeeva::{Complex, faddeeva_w};
 use std::f64::consts::{E, PI};
 
-/// Coefficient of the history force, `K_H = 6 a² sqrt(π ρ μ)` in kg/s^½ (PHYSICS.md §10;
+/// Coefficient of the history force, `K_H = 6 a² sqrt(π ρ μ)` in kg/s^½ (docs/physics.md §10;
 /// Basset 1888, Boussinesq 1885; e.g. Maxey & Riley 1983, Phys. Fluids 26, 883), so
 /// that `F_H = −K_H ∫_0^t (dw/ds) / sqrt(t − s) ds` (N) for the slip velocity `w` (m/s).
 ///
@@ -121,7 +121,7 @@ impl ExponentialSum {
 }
 
 /// A sphere released from rest at `t = 0` in a still fluid under a constant force, with Stokes
-/// drag, added mass and the history force **[ext]** (PHYSICS.md §10): the equation
+/// drag, added mass and the history force **[ext]** (docs/physics.md §10): the equation
 ///
 /// `m_eff dv/dt = F − 6π μ a v − 6 a² sqrt(π ρ μ) ∫_0^t (dv/ds)/sqrt(t − s) ds`, `v(0) = 0`,
 ///

@@ -1,4 +1,4 @@
-//! Pure correlation functions of `PHYSICS.md`, each citing its source.
+//! Pure correlation functions of `docs/physics.md`, each citing its source.
 //!
 //! Every function is a plain function of SI numbers: no scene, no state. The doc comment of
 //! each gives the formula, the source with its equation number, the range of validity and the

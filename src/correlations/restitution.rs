@@ -35,7 +35,7 @@ mod tests {
 
     #[test]
     fn st_exactly_at_critical_rebounds() {
-        // PHYSICS.md §5: "St < St_c: no rebound", so St = St_c rebounds.
+        // docs/physics.md §5: "St < St_c: no rebound", so St = St_c rebounds.
         assert!(matches!(restitution(10.0, 1.0, 35.0, 10.0), Restitution::Rebound(_)));
         assert_eq!(restitution(9.999, 1.0, 35.0, 10.0), Restitution::NoRebound);
     }

@@ -1,4 +1,4 @@
-//! Rotation of a sphere **[ext]** (PHYSICS.md §9): its moment of inertia and the Stokes torque
+//! Rotation of a sphere **[ext]** (docs/physics.md §9): its moment of inertia and the Stokes torque
 //! of the fluid on it.
 
 /// Moment of inertia of a uniform sphere of density `rho_p` (kg/m³) and diameter `d` (m) about

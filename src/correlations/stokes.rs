@@ -13,7 +13,7 @@ pub fn stokes_number(rho_p: f64, rho: f64, v_inf: f64, d: f64, mu: f64) -> f64 {
     if num == 0.0 { 0.0 } else { num / (9.0 * mu) }
 }
 
-/// Pair Stokes number **[ext]** (PHYSICS.md §2): `St = m* Vn / (6π μ a*²)` with the reduced,
+/// Pair Stokes number **[ext]** (docs/physics.md §2): `St = m* Vn / (6π μ a*²)` with the reduced,
 /// added-mass-inclusive mass `m* = m1 m2 / (m1 + m2)` (kg) and reduced radius
 /// `a* = a1 a2 / (a1 + a2)` (m); `vn` relative normal approach speed (m/s).
 ///

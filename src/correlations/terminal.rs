@@ -14,7 +14,7 @@ pub struct TerminalVelocity {
     pub rising: bool,
 }
 
-/// Terminal velocity: the root `V` of `3π μ d f(Re) V = Vp |ρp − ρ| |g|` (PHYSICS.md §1,
+/// Terminal velocity: the root `V` of `3π μ d f(Re) V = Vp |ρp − ρ| |g|` (docs/physics.md §1,
 /// the steady state of L06 eq. 7), with `Re = ρ V d / μ`.
 ///
 /// `drag_factor` is `f(Re)` (e.g. [`super::drag_factor_schiller_naumann`], or `|_| 1.0` for

@@ -1,4 +1,4 @@
-//! **[ext]** Stokes-flow wall factors of a sphere near a plane wall (PHYSICS.md §8): the drag
+//! **[ext]** Stokes-flow wall factors of a sphere near a plane wall (docs/physics.md §8): the drag
 //! factors for motion normal (`λ⊥`) and parallel (`λ∥`) to the wall and the added mass of a
 //! sphere moving normal to it.
 //!
@@ -116,7 +116,8 @@ fn bispherical_alpha(gap: f64) -> (f64, f64) {
 }
 
 /// Normal wall factor `λ⊥(ε)` of a sphere moving normal to a plane wall, exact: the series of
-/// Brenner (1961), Chem. Eng. Sci. 16, 242–251 (PHYSICS.md §8). The Stokes drag is `λ⊥ · 6π μ a v`.
+/// Brenner (1961), Chem. Eng. Sci. 16, 242–251 (docs/physics.md §8). The Stokes drag is
+/// `λ⊥ · 6π μ a v`.
 ///
 /// With `ε = h/a` (surface gap over radius, dimensionless) and `α = arccosh(1 + ε)`,
 ///
@@ -290,7 +291,7 @@ fn oneill_parallel_truncated(gap: f64, nmax: usize) -> f64 {
 
 /// Faxén's far-field parallel factor (method of reflections; Faxén 1923, as given by Happel &
 /// Brenner 1965, Low Reynolds Number Hydrodynamics, ch. 7): `λ∥ ≈ 1 / (1 − (9/16)s + (1/8)s³ − (45/256)s⁴ − (1/16)s⁵)`,
-/// `s = a/(h + a) = 1/(1 + ε)` (PHYSICS.md §8). Dimensionless.
+/// `s = a/(h + a) = 1/(1 + ε)` (docs/physics.md §8). Dimensionless.
 ///
 /// Against [`oneill_parallel_exact`]: relative error 2e-7 at `ε = 9`, 6e-5 at `ε = 2.76`, 1e-3
 /// at `ε = 1.35`, 1 % at `ε = 0.54`, 4 % at `ε = 0.13`; it stays finite at contact (3.08)
@@ -346,7 +347,7 @@ pub fn wall_factor_parallel(gap: f64) -> f64 {
 }
 
 /// Added-mass coefficient `C_M(ε)` of a sphere moving normal to a plane wall in potential flow,
-/// exact image series of potential flow (PHYSICS.md §8; a sphere and its mirror image, the
+/// exact image series of potential flow (docs/physics.md §8; a sphere and its mirror image, the
 /// classical two-sphere problem):
 ///
 /// `C_M = 1/2 + (3/2) Σ_{n≥2} (sinh α / sinh nα)³`, `α = arccosh(1 + ε)`,

@@ -1,4 +1,4 @@
-//! Added mass: the fluid set in motion with the particle (PHYSICS.md §1).
+//! Added mass: the fluid set in motion with the particle (docs/physics.md §1).
 
 use super::{Effect, Physics};
 use crate::correlations::ADDED_MASS_FAR;

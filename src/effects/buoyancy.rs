@@ -1,4 +1,4 @@
-//! Buoyancy: the displaced fluid's weight `−ρ Vp g` (PHYSICS.md §1).
+//! Buoyancy: the displaced fluid's weight `−ρ Vp g` (docs/physics.md §1).
 
 use super::{Effect, Physics};
 use crate::fluid::Fluid;

@@ -1,4 +1,4 @@
-//! Contact time: particles are held at the wall for `t_c` before release (PHYSICS.md §5.3).
+//! Contact time: particles are held at the wall for `t_c` before release (docs/physics.md §5.3).
 
 use super::{Effect, EffectError, Physics};
 use crate::fluid::Fluid;

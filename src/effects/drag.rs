@@ -1,4 +1,4 @@
-//! Drag: `−3π μ d f(Re) (v − u)` (PHYSICS.md §1), Stokes or Schiller–Naumann.
+//! Drag: `−3π μ d f(Re) (v − u)` (docs/physics.md §1), Stokes or Schiller–Naumann.
 
 use super::{Effect, Physics};
 use crate::correlations::{

@@ -1,4 +1,4 @@
-//! **[ext]** The fluid-acceleration force of a non-uniform or unsteady flow (PHYSICS.md §1):
+//! **[ext]** The fluid-acceleration force of a non-uniform or unsteady flow (docs/physics.md §7.1):
 //! `ρ Vp (1 + C_M) Du/Dt`, `Du/Dt = ∂u/∂t + (u·∇)u` the fluid's acceleration at the particle.
 
 use super::{Effect, Physics};

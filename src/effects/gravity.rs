@@ -1,4 +1,4 @@
-//! Gravity: the particle's weight `ρp Vp g` (PHYSICS.md §1).
+//! Gravity: the particle's weight `ρp Vp g` (docs/physics.md §1).
 
 use super::{Effect, Physics};
 use crate::fluid::Fluid;

@@ -1,4 +1,4 @@
-//! **[ext]** The Basset–Boussinesq history force (PHYSICS.md §10), with a bounded memory per
+//! **[ext]** The Basset–Boussinesq history force (docs/physics.md §10), with a bounded memory per
 //! particle: its kernel `1/√t` as a sum of decaying exponentials (the exponential-mode form of
 //! Parmar, Balachandar & Haselbacher 2018), each one an extra state per particle.
 
@@ -113,7 +113,7 @@ impl MemoryKernel {
 /// `c = K_H / (m_eff a)` per unit `1/a`: the history force's rate on a sphere of radius `a`,
 /// `c / a` in s^−½, for a kind of inertia density `inertia_density` (kg/m³, `ρp + C_M ρ`) in
 /// `fluid`: `K_H / m_eff = 6 a² sqrt(π ρ μ) / (inertia_density · 4π a³/3) = (9/2) sqrt(ρ μ / π) /
-/// (inertia_density · a)` (PHYSICS.md §10).
+/// (inertia_density · a)` (docs/physics.md §10).
 pub fn history_rate_times_radius(fluid: &Fluid, inertia_density: f64) -> f64 {
     4.5 * (fluid.density * fluid.viscosity / std::f64::consts::PI).sqrt() / inertia_density
 }

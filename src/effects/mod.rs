@@ -1,4 +1,4 @@
-//! The physical effects a scene can name, one file each (PHYSICS.md §1 and §5).
+//! The physical effects a scene can name, one file each (docs/physics.md §1 and §5).
 //!
 //! An effect does not run in the hot loop: it *builds* the scene's [`Physics`] once, by adding
 //! its term to each particle kind's inertia and force (per unit particle volume), by choosing the
@@ -120,21 +120,22 @@ pub struct Physics {
     pub drag: Option<DragLawKind>,
     /// Added-mass coefficient in the inertia (0 without the added-mass effect).
     pub added_mass_coefficient: f64,
-    /// With the contact-time effect: particles are held at the wall for `t_c` (PHYSICS.md §5.3).
+    /// With the contact-time effect: particles are held at the wall for `t_c`
+    /// (docs/physics.md §5.3).
     pub hold_at_contact: bool,
     /// Which kinds the contact-time effect holds, indexed like the kinds (empty without it).
     pub held_kinds: Vec<bool>,
     /// With the wall-lubrication effect **[ext]**: the drag and added mass near a wall
-    /// (PHYSICS.md §8), evaluated by the flight kernel for particles near a wall only.
+    /// (docs/physics.md §8), evaluated by the flight kernel for particles near a wall only.
     pub wall_lubrication: bool,
     /// With the history effect **[ext]**: the memory kernel of the Basset–Boussinesq force
-    /// (PHYSICS.md §10), integrated by the flight kernel with one memory per particle.
+    /// (docs/physics.md §10), integrated by the flight kernel with one memory per particle.
     pub history: Option<MemoryKernel>,
     /// With rotation **[ext]** (the effect, or any friction key in the scene): particles spin,
-    /// the fluid's torque relaxes the spin, contacts with friction change it (PHYSICS.md §9).
+    /// the fluid's torque relaxes the spin, contacts with friction change it (docs/physics.md §9).
     pub rotation: bool,
     /// With the fluid-acceleration effect **[ext]**: the force `(1 + C_M) ρ Vp Du/Dt` of a
-    /// non-uniform or unsteady flow (PHYSICS.md §1), evaluated with the drag in a field flow
+    /// non-uniform or unsteady flow (docs/physics.md §7.1), evaluated with the drag in a field flow
     /// (zero, and not evaluated, in the analytic flows).
     pub fluid_acceleration: bool,
     /// Names of the effects, in the order they were applied.

@@ -1,4 +1,4 @@
-//! Rotation **[ext]** (PHYSICS.md §9): particles carry an angular velocity, which the fluid
+//! Rotation **[ext]** (docs/physics.md §9): particles carry an angular velocity, which the fluid
 //! relaxes towards half its vorticity by the Stokes torque `−8π μ a³ (ω − ½ ∇×u)` (with the
 //! drag effect: the same viscous fluid), and which frictional contacts change.
 

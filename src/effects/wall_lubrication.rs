@@ -1,5 +1,5 @@
 //! **[ext]** Wall lubrication: the Stokes-flow drag and added mass of a sphere near a wall
-//! (PHYSICS.md §8).
+//! (docs/physics.md §8).
 
 use super::{Effect, Physics};
 use crate::correlations::{added_mass_normal_and_slope, wall_factor_normal, wall_factor_parallel};
@@ -8,10 +8,10 @@ use crate::particles::ParticleKind;
 use serde::Deserialize;
 
 /// With this effect, a particle whose lubrication gap `h` to its nearest wall is within
-/// [`RANGE`] radii feels the wall (PHYSICS.md §8): the drag normal to the wall grows by
+/// [`RANGE`] radii feels the wall (docs/physics.md §8): the drag normal to the wall grows by
 /// `λ⊥(h/a) − 1` times Stokes drag, the drag parallel to it by `λ∥(h/a) − 1`, and with the
 /// added-mass effect the inertia normal to the wall follows the image series `C_M(h)`. Contact
-/// is made at the particle's roughness plus the wall's, where the `e` rule applies (PHYSICS.md
+/// is made at the particle's roughness plus the wall's, where the `e` rule applies (docs/physics.md
 /// §3, §8). Scene table: `wall_lubrication = {}`; the roughnesses are material keys.
 #[derive(Debug, Clone, Default, Deserialize)]
 #[serde(deny_unknown_fields)]

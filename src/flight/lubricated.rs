@@ -1,4 +1,4 @@
-//! **[ext]** Flight near a wall with the wall-lubrication effect (PHYSICS.md §8): the drag is
+//! **[ext]** Flight near a wall with the wall-lubrication effect (docs/physics.md §8): the drag is
 //! anisotropic there (`λ⊥` normal to the wall, `λ∥` along it) and stiff (the normal relaxation
 //! time `τ/λ⊥` falls to `τ h/a`), so the scene's integrator, whose force is one scalar rate, is
 //! replaced for such particles by sub-steps of an exponential midpoint scheme written in the
@@ -77,7 +77,7 @@ impl Split {
 impl<M: Motion> Kernel<'_, M> {
     /// The split force on a particle of kind `k`, radius `r`, at `(x, v)`, with lubrication gap
     /// `h` along `n`. The Stokes part of the drag grows by the wall's excess, added to the law's
-    /// `f(Re)` (PHYSICS.md §8: `f(Re) + λ − 1`, the film's flow being viscous whatever `Re`).
+    /// `f(Re)` (docs/physics.md §8: `f(Re) + λ − 1`, the film's flow being viscous whatever `Re`).
     fn split(
         &self,
         lub: &Lubrication,

@@ -51,7 +51,7 @@ pub struct Kernel<'a, M> {
     /// With an effect that is not one linearised force (wall lubrication, history) only: one
     /// field, so that a scene without them tests one `None` per flight, as before they existed.
     nonlinear: Option<NonLinear<'a>>,
-    /// With rotation only (PHYSICS.md §9).
+    /// With rotation only (docs/physics.md §9).
     spin: Option<spin::Spin>,
     /// In a field flow on an unstructured grid only (empty otherwise): each particle's
     /// tetrahedron at the start of the step, where its flow lookups walk from
@@ -66,7 +66,7 @@ enum NonLinear<'a> {
     Memory(remembered::Memory<'a>),
 }
 
-/// The segment starts with an empty memory (after a contact or a release; PHYSICS.md §10): the
+/// The segment starts with an empty memory (after a contact or a release; docs/physics.md §10): the
 /// value of [`Segment::memory`] that names no particle.
 pub const NO_MEMORY: u32 = u32::MAX;
 

@@ -1,4 +1,4 @@
-//! **[ext]** Free flight with the history force (PHYSICS.md §10): the Basset–Boussinesq memory
+//! **[ext]** Free flight with the history force (docs/physics.md §10): the Basset–Boussinesq memory
 //! integral with its kernel a sum of exponentials, each mode one state per particle.
 //!
 //! With the slip `w = v − u` and the modes `F_k(t) = ∫ e^{−λ_k (t − s)} (dw/ds) ds`, the force

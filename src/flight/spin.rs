@@ -1,4 +1,4 @@
-//! The spin of a particle between contacts **[ext]** (PHYSICS.md §9): relaxed by the fluid's
+//! The spin of a particle between contacts **[ext]** (docs/physics.md §9): relaxed by the fluid's
 //! Stokes torque towards half the flow's vorticity. Not in the free-flight loop: translation
 //! does not depend on spin (no lift force), so spin is its own pass, and a scene without
 //! rotation never runs it.

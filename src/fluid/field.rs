@@ -1,5 +1,5 @@
-//! A carrier flow read from files that a CFD code wrote (PHYSICS.md §7): the grid, the velocity
-//! at its nodes (one set per snapshot of a time series), and what happens outside it.
+//! A carrier flow read from files that a CFD code wrote (docs/physics.md §7): the grid, the
+//! velocity at its nodes (one set per snapshot of a time series), and what happens outside it.
 //!
 //! The data live in one [`Field`] behind an `Arc` ([`super::Flow::Field`]), so the scene's
 //! `Flow` stays cheap to clone; the hot loop sees a [`FieldAt`], a reference and the step's
@@ -457,7 +457,7 @@ impl FieldAt<'_> {
 }
 
 /// A [`Field`] at one time with its material acceleration, as a [`FlowField`]: the flow of a
-/// field scene with the fluid-acceleration effect **[ext]** (PHYSICS.md §1). Its velocity is
+/// field scene with the fluid-acceleration effect **[ext]** (docs/physics.md §7.2). Its velocity is
 /// [`FieldAt`]'s; `Du/Dt = ∂u/∂t + (u·∇)u` with `∂u/∂t` the exact time derivative of the
 /// linear-in-time interpolation (the two snapshots' difference over their interval) and `∇u`
 /// by central differences of the interpolant ([`FieldAt::gradient`]): eight more

@@ -1,4 +1,4 @@
-//! Time integrators of the free flight between contacts (PHYSICS.md §1), one file each.
+//! Time integrators of the free flight between contacts (docs/physics.md §1), one file each.
 //!
 //! Every scheme advances one particle's `(x, v)` over a step `h` under a [`ForceField`] that
 //! returns the acceleration in linearised form ([`Linear`]): an explicit part plus a drag rate
@@ -152,7 +152,7 @@ impl<D: DragLaw, F: FlowField, V: Vector> ForceField<V> for ParticleForce<D, F, 
 }
 
 /// A force field with the part pushing into a wall removed: a particle resting on a wall
-/// (PHYSICS.md §5.2) slides in the tangent plane of the unit normal `n`.
+/// (docs/physics.md §5.2) slides in the tangent plane of the unit normal `n`.
 #[derive(Debug, Clone, Copy)]
 pub struct Tangential<'a, F> {
     /// The unconstrained field.
@@ -196,7 +196,7 @@ mod tests {
     use crate::fluid::{Poiseuille, Quiescent, Uniform};
     use crate::numeric::lanes::{DVec3x4, F64x4, LANES};
 
-    /// Stokes settling from rest in a uniform flow: the closed form of PHYSICS.md §1.
+    /// Stokes settling from rest in a uniform flow: the closed form of docs/physics.md §1.
     fn stokes_case() -> (ParticleForce<Stokes, Uniform>, impl Fn(f64) -> (DVec3, DVec3)) {
         let f = ParticleForce {
             accel: DVec3::new(0.3, 0.0, -2.0),

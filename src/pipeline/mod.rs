@@ -218,8 +218,8 @@ impl Simulation {
         if let Some(kernel) = &setup.physics.history
             && particles.memory_modes == 0
         {
-            // One memory per particle, allocated only here, when a run starts (PHYSICS.md §10):
-            // a scene that is only checked never holds it.
+            // One memory per particle, allocated only here, when a run starts
+            // (docs/physics.md §10): a scene that is only checked never holds it.
             particles.memory_modes = kernel.modes();
             particles.memory.resize(particles.len() * kernel.modes(), glam::DVec3::ZERO);
         }

@@ -102,7 +102,7 @@ pub(crate) fn run<M: Motion>(
     result
 }
 
-/// Stage 2 for spins, in a scene with rotation only (PHYSICS.md §9): every particle's spin
+/// Stage 2 for spins, in a scene with rotation only (docs/physics.md §9): every particle's spin
 /// relaxed by the fluid's torque over the step (`Kernel::spin_after`), into `next.omega`. A
 /// pass of its own, not in the loops above: translation does not depend on spin, and a scene
 /// without rotation must keep those loops as they are.

@@ -11,7 +11,7 @@
 //! - the contact time `t_c` (L06 eq. 4 or 5) when rebounding particles are held, since the
 //!   motion right after a release is a new relaxation towards `V_t`.
 //!
-//! In a flow read from files two more time scales count (PHYSICS.md §7,
+//! In a flow read from files two more time scales count (docs/physics.md §7,
 //! [`super::stiffness::FlowScales`]): the time the fastest fluid takes to cross the smallest
 //! cell, `Δx_min / |u|_max`, over which the interpolated velocity a particle sees changes by a
 //! cell's worth (accuracy), and `1 / |∇u|_max`, the flow's own rate (accuracy, and the stability

@@ -124,7 +124,7 @@ pub(super) fn build(
     for (kind, &held) in kinds.iter_mut().zip(&physics.held_kinds) {
         kind.held_at_contact = held;
     }
-    // Friction needs the spin: a scene with a friction key has rotation (PHYSICS.md §9).
+    // Friction needs the spin: a scene with a friction key has rotation (docs/physics.md §9).
     let friction =
         kinds.iter().any(|k| k.friction.named()) || walls.iter().any(|w| w.material.friction.named());
     physics.rotation |= friction;
@@ -402,7 +402,7 @@ fn build_kinds(specs: &[KindSpec]) -> Result<Vec<ParticleKind>, Invalid> {
     Ok(kinds)
 }
 
-/// The friction keys of a kind or a wall material **[ext]** (PHYSICS.md §9), `prefix` the key
+/// The friction keys of a kind or a wall material **[ext]** (docs/physics.md §9), `prefix` the key
 /// path up to the key's name (`kinds[0].`, `walls[1].material.`): `friction` (μ) 0 to 10,
 /// `tangential_restitution` (β0) −1 to 1, `rolling_friction` (μ_r) 0 to 1.
 pub(super) fn friction_keys(
@@ -463,7 +463,7 @@ fn check_stable_step(setup: &Setup, particles: &Particles) -> Result<(), Invalid
 }
 
 /// In a field flow, a particle's position feeds back on its velocity at the rate
-/// [`flow_rate`] (`|∇u|_max`, PHYSICS.md §7): every scheme, the exponential one included (its
+/// [`flow_rate`] (`|∇u|_max`, docs/physics.md §7): every scheme, the exponential one included (its
 /// flow velocity is taken at a predicted midpoint, explicitly), must have `h` times that rate
 /// inside its real-axis stability interval, 2 for the exponential scheme.
 fn check_stable_in_flow(setup: &Setup) -> Result<(), Invalid> {
@@ -541,7 +541,7 @@ fn round_down(x: f64) -> String {
 }
 
 /// A particle may start touching a wall (gap 0) but not overlapping or behind it.
-/// The bounce rule's restitution (PHYSICS.md §3): L06's `ε(St)` or, with wall lubrication,
+/// The bounce rule's restitution (docs/physics.md §3): L06's `ε(St)` or, with wall lubrication,
 /// the `e` rule. Each without the other is refused: L06's `ε` already holds the fluid's losses
 /// near the wall that lubrication computes (they would be counted twice), and the `e` rule
 /// without lubrication has no St dependence at all.

@@ -39,9 +39,9 @@ pub struct WallMaterial {
     /// `ε_max` of impacts on this wall, overriding the particle kind's.
     pub restitution_max: Option<f64>,
     /// Surface roughness `h_r` of the wall (m) **[ext]**, added to the particle's with the
-    /// `wall_lubrication` effect (PHYSICS.md §8); 0 when not given.
+    /// `wall_lubrication` effect (docs/physics.md §8); 0 when not given.
     pub roughness: f64,
-    /// The wall's friction keys **[ext]** (PHYSICS.md §9).
+    /// The wall's friction keys **[ext]** (docs/physics.md §9).
     pub friction: crate::particles::FrictionMaterial,
 }
 

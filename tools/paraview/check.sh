@@ -7,7 +7,7 @@
 #
 #     WETBOUNCE_BIN=target/release/wetbounce   use this binary (default: build it in release)
 #     PNG=docs/figures/paraview_<scene>.png    where the picture goes (this one redraws the
-#                                              README's)
+#                                              one in docs/output.md)
 #
 # Needs ParaView's pvbatch with its Python modules, and an X server to render into: Debian's
 # `paraview` is built for X only (pvbatch --force-offscreen-rendering aborts: no EGL or OSMesa),

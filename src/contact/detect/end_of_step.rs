@@ -2,7 +2,7 @@
 //! offered only so that the accuracy study (`tools/plots/src/accuracy_study.rs`,
 //! `docs/accuracy.md`) can measure what locating it inside the step buys.
 //!
-//! PHYSICS.md §5.5 asks for the contact inside the step; many codes instead test for overlap
+//! docs/physics.md §5.5 asks for the contact inside the step; many codes instead test for overlap
 //! at the end of the step and apply the response there. This reproduces that: a wall contact
 //! exists only if the particle overlaps the wall at the step's end, it is dated at the step's
 //! end, the particle is pushed back along the wall's normal to touch it, and the bounce rule
@@ -15,7 +15,7 @@ use serde::Deserialize;
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Deserialize)]
 #[serde(rename_all = "snake_case")]
 pub enum ImpactLocation {
-    /// On the integrator's path inside the step (PHYSICS.md §5.5; the default).
+    /// On the integrator's path inside the step (docs/physics.md §5.5; the default).
     #[default]
     InStep,
     /// At the end of the step, if the particle overlaps the wall there.

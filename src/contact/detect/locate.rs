@@ -8,7 +8,7 @@ use crate::walls::Crossing;
 ///
 /// The chord `x(0) → x(h)` only detects the contact (a thin wall is caught however fast the
 /// particle moves); the time is then found on the integrator's own path, so that it is as
-/// accurate as the integrator (PHYSICS.md §5.5: the contact is located inside the step).
+/// accurate as the integrator (docs/physics.md §5.5: the contact is located inside the step).
 /// A bracket `[s_a, s_b]` with the gap positive at `s_a` and negative at `s_b` is built — `s_b`
 /// is the end of the step, or the deepest point of the chord's overlap for a wall the path goes
 /// through — and refined by the Illinois variant of regula falsi. `None` when the curved path

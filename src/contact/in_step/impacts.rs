@@ -15,7 +15,7 @@ use crate::walls::{CREASE_TOUCHING, Surface, contact_part};
 use glam::DVec3;
 
 impl<'a, M: Motion> Ctx<'a, M> {
-    /// Applies the bounce rule of PHYSICS.md §5 to `tr` hitting wall `w` at time `t`.
+    /// Applies the bounce rule of docs/physics.md §5 to `tr` hitting wall `w` at time `t`.
     pub(crate) fn wall_event(
         &self,
         p: &Particles,
@@ -74,7 +74,7 @@ impl<'a, M: Motion> Ctx<'a, M> {
             Self::set_spin(tr, omega_after, t, xc);
         }
         let w = w as u32;
-        // Every path after a contact starts with an empty memory (PHYSICS.md §10).
+        // Every path after a contact starts with an empty memory (docs/physics.md §10).
         let memory = NO_MEMORY;
         let seg = match impact.outcome {
             // A particle resting on another wall that rebounds along it or into it (a bead

@@ -1,4 +1,4 @@
-//! Stages 4 and 5: every contact inside the step — with walls and between particles — is
+//! Stage 4: every contact inside the step — with walls and between particles — is
 //! located on the particles' curved paths, resolved by the bounce rule in time order, and the
 //! rest of the step integrated from the contact point.
 //!
@@ -23,7 +23,7 @@ use glam::DVec3;
 use queue::IslandResult;
 use rayon::prelude::*;
 
-/// Stages 4 and 5 for the whole step from `t0` to `t1`: islands from the broad phase's wall
+/// Stage 4 for the whole step from `t0` to `t1`: islands from the broad phase's wall
 /// candidates and candidate pairs, resolved in parallel, written back in index order into
 /// `next` (positions, velocities, states, walls, and the holds begun), `events` and `lasting`.
 /// Returns true when a particle's new state is not finite.

@@ -1,4 +1,4 @@
-//! Friction at an impact **[ext]** (PHYSICS.md §9): the rigid-body impulse model with Coulomb
+//! Friction at an impact **[ext]** (docs/physics.md §9): the rigid-body impulse model with Coulomb
 //! friction `μ` and tangential restitution `β0` (Walton 1993; Maw, Barber & Fawcett 1976; as
 //! Joseph & Hunt 2004 use it for immersed oblique impacts). The normal impulse is the bounce
 //! rule's (L06's `ε`, or `e` under the `e` rule, 0 for a deposit); this file adds the tangential
@@ -108,7 +108,7 @@ pub fn contact_velocity(a: &Spinning, b: &Spinning, n: DVec3) -> DVec3 {
 /// A tangential impulse `J` changes the contact point's relative tangential velocity by `c J`,
 /// `c = 1/m_a + 1/m_b + a_a²/I_a + a_b²/I_b`; the normal impulse is `J_n = (1 + e) vn / (1/m_a
 /// + 1/m_b)`. The impact **sticks** when `(1 + β0) |v_ct| ≤ μ c J_n` — for one solid sphere on a
-/// wall, with no added mass, `c J_n = (7/2)(1 + e)|vn|`: the 7/2 of PHYSICS.md §9 — and then
+/// wall, with no added mass, `c J_n = (7/2)(1 + e)|vn|`: the 7/2 of docs/physics.md §9 — and then
 /// `v_ct' = −β0 v_ct`; otherwise it **slides**: `|J| = μ J_n` against `v_ct`, and `|v_ct|` drops
 /// by `μ c J_n`. In a liquid `m` carries the added mass and `I` does not (a sphere's added mass
 /// has no rotational part), so `c J_n / (1 + e) vn` is `1 + (5/2)(ρp + C_M ρ)/ρp` rather than 7/2.

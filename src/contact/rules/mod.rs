@@ -1,4 +1,4 @@
-//! The bounce rule of PHYSICS.md §5 (L06 §4): the Stokes number once per contact, the
+//! The bounce rule of docs/physics.md §5 (L06 §4): the Stokes number once per contact, the
 //! restitution, the contact time and the outcome — held, bounced or deposited — for a particle
 //! on a wall ([`wall`]) and for two particles ([`pair`], **[ext]**); with friction, the
 //! tangential impulse and the spin of Walton's model ([`friction`], **[ext]**).

@@ -1,4 +1,4 @@
-//! The bounce rule for two particles **[ext]** (PHYSICS.md §2, §4 and §5, pair extensions).
+//! The bounce rule for two particles **[ext]** (docs/physics.md §2, §4 and §5, pair extensions).
 
 use super::wall::BounceRule;
 use crate::contact::Outcome;

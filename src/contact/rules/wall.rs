@@ -1,4 +1,4 @@
-//! The bounce rule of PHYSICS.md §5 for one particle on a wall.
+//! The bounce rule of docs/physics.md §5 for one particle on a wall.
 
 use crate::contact::Outcome;
 use crate::correlations::{
@@ -9,7 +9,7 @@ use crate::particles::{Material, ParticleKind};
 use crate::walls::WallMaterial;
 use glam::DVec3;
 
-/// The scene's bounce parameters (PHYSICS.md §3 and §5).
+/// The scene's bounce parameters (docs/physics.md §3 and §5).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct BounceRule {
     /// `β` of `ε = ε_max exp(−β/St)`; 35 in L06.
@@ -19,12 +19,12 @@ pub struct BounceRule {
     /// Tangential restitution `e_t` **[ext]**: tangential velocity kept at release; 1 default.
     pub tangential_restitution: f64,
     /// Walton's friction at impacts and Coulomb friction in lasting contacts **[ext]**
-    /// (PHYSICS.md §9): the scene gives friction keys. Then `tangential_restitution` is 1 and
+    /// (docs/physics.md §9): the scene gives friction keys. Then `tangential_restitution` is 1 and
     /// the materials' keys ([`super::friction::Friction::between`]) make the tangential rule.
     pub friction: bool,
     /// Hold rebounding particles at the wall for `t_c` (the contact-time effect).
     pub hold_at_contact: bool,
-    /// The `e` rule **[ext]** (PHYSICS.md §3, §8), with wall lubrication: the rebound is `e`
+    /// The `e` rule **[ext]** (docs/physics.md §3, §8), with wall lubrication: the rebound is `e`
     /// times the speed at impact, `e` the scene's `bounce.e` (`Some`) or the dry restitution
     /// `ε_max` (`None`). `None` here: L06's `ε(St)`.
     pub e_rule: Option<Option<f64>>,
@@ -71,7 +71,7 @@ pub struct Impact {
 /// `material` with velocity `v` (m/s); `n` is the wall's unit normal towards the particle.
 ///
 /// `V∞ = −v·n` is the normal approach speed at contact: with no wall effect in the force
-/// balance it is the speed before the particle feels the wall (PHYSICS.md §2). With the `e`
+/// balance it is the speed before the particle feels the wall (docs/physics.md §2). With the `e`
 /// rule (wall lubrication) it is the speed at impact, already slowed by the lubrication, and
 /// `st` and `eps` in the result are of that speed (`eps = e`).
 pub fn wall_impact(

@@ -5,10 +5,10 @@
 //!
 //! - `history_gondret`: the 3 mm steel bead in silicone oil of Gondret, Lance & Petit (2002),
 //!   `scenes/steel_bead_oil.toml` (no history force) beside `scenes/steel_bead_oil_history.toml`
-//!   (the `history` effect, PHYSICS.md §10);
+//!   (the `history` effect, docs/physics.md §10);
 //! - `lubrication_glass_bead`: the 2.5 mm glass bead in water, `scenes/glass_bead.toml` (L06's
 //!   ε(St) rule) beside `scenes/glass_bead_lubrication.toml` (`wall_lubrication` and the `e`
-//!   rule, PHYSICS.md §8).
+//!   rule, docs/physics.md §8).
 //!
 //! Each scene runs as shipped, through the library, and the gap under the bead (its height less
 //! its radius) is taken at every output interval. Printed per scene: each contact's time,

@@ -1,5 +1,5 @@
-//! The README's picture of the contactor: the water's flow and the drops in it, for the flow
-//! OpenFOAM computed (`scenes/contactor.toml`) beside the empty pipe's Poiseuille profile
+//! The picture of the contactor in docs/cfd.md: the water's flow and the drops in it, for the
+//! flow OpenFOAM computed (`scenes/contactor.toml`) beside the empty pipe's Poiseuille profile
 //! (`scenes/contactor_poiseuille.toml`), and the drops' residence times at the top outlet in
 //! each.
 //!

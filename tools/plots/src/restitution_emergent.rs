@@ -1,5 +1,5 @@
 //! The restitution that emerges from the resolved mode (wall lubrication and the `e` rule,
-//! PHYSICS.md §8), against L06's `exp(−35/St)`, into `OUT_DIR` (default
+//! docs/physics.md §8), against L06's `exp(−35/St)`, into `OUT_DIR` (default
 //! `out/figures/`; `docs/figures` redraws the committed ones; CSV, PNG and SVG):
 //!
 //!     cargo run --release -p wetbounce-tools --bin restitution_emergent [-- OUT_DIR] [--font FILE.ttf]
