@@ -47,7 +47,7 @@ def cli() -> Path | None:
 
 
 def bad_scenes() -> list[tuple[Path, list[str]]]:
-    """scenes/bad/*.toml with their `# expect:` substrings (tests/scenes_bad.rs)."""
+    """scenes/bad/*.toml with their `# expect:` substrings (tests/input/scenes_bad.rs)."""
     out = []
     for p in sorted((SCENES / "bad").glob("*.toml")):
         expected = []

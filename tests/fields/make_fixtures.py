@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Writes the small VTK fixtures of tests/field_formats.rs (committed; CI does not run this).
+"""Writes the small VTK fixtures of tests/input/field_formats.rs (committed; CI does not run this).
 
 A unit cube in 2 x 2 x 2 hexahedra (27 points, 8 cells) carrying the linear velocity
 u = (1 + 2x - y, 3z, -x + 0.5y) as point data "U" and, at the cell centres, as cell data "U",

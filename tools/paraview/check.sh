@@ -13,7 +13,7 @@
 # `paraview` is built for X only (pvbatch --force-offscreen-rendering aborts: no EGL or OSMesa),
 # so the script runs it in a virtual one (xvfb-run) when DISPLAY is unset. On Debian or Ubuntu, as root,
 # it installs what is missing itself: paraview, python3-paraview, xvfb (about 220 MB to download,
-# 1.3 GB on disk). CI does not run this: tests/output_vtk.rs checks the files with vtkio.
+# 1.3 GB on disk). CI does not run this: tests/output/output_vtk.rs checks the files with vtkio.
 set -euo pipefail
 cd "$(dirname "$0")/../.."
 

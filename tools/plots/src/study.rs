@@ -1,6 +1,6 @@
 //! The work–precision study's core: the cases, one run of the engine with one method, and its
 //! errors against a reference. Shared by `tools/plots/src/accuracy_study.rs` (the full study,
-//! its CSV and plots) and `tests/accuracy_study.rs` (the reduced study CI runs), so that both
+//! its CSV and plots) and `tests/physics/accuracy_study.rs` (the reduced study CI runs), so that both
 //! measure the same thing. Depends on the engine and the standard library only.
 //!
 //! A *method* is an integrator, a time step, where impacts are placed in time (inside the step
