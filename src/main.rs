@@ -6,8 +6,8 @@ use std::io::Write as _;
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 use wetbounce::fluid::field::OutsideField;
-use wetbounce::output::{Folder, Format, OutputError, Outputs, Progress, RunSummary, Sink, Statistics};
-use wetbounce::run::{RunFailed, RunReport, StopSignals, run};
+use wetbounce::output::{Folder, Format, OutputError, Progress};
+use wetbounce::run::{Driver, Ended, RunReport, StopSignals};
 use wetbounce::scene::{LoadOptions, Scene, field_report, kind_reports};
 
 /// Particles and drops bouncing on walls in a viscous fluid (Legendre et al. 2006).
@@ -152,22 +152,16 @@ fn run_scene(args: &RunArgs) -> Result<(String, ExitCode), String> {
         // Spin columns only in a scene with rotation: the others keep their files byte for byte.
         rotation: scene.setup.physics.rotation,
     };
-    let Outputs { mut sinks, mut written, stale } = folder
-        .create(&formats)
+    let mut driver = Driver::new(Some(&folder), &formats, scene.duration, output_interval)
         .map_err(|errors| errors.iter().map(ToString::to_string).collect::<Vec<_>>().join("\nerror: "))?;
-    report_stale(&stale);
-    let mut stats = Statistics::default();
+    report_stale(driver.stale());
     let mut progress = Progress::new(scene.duration, args.quiet);
 
     // The scene's particles move into the simulation: a run holds one copy of them.
     let mut sim = scene.take_simulation().map_err(|e| e.to_string())?;
-    let result = {
-        let mut all: Vec<&mut dyn Sink> = sinks.iter_mut().map(|s| s.as_mut() as &mut dyn Sink).collect();
-        all.push(&mut stats);
-        all.push(&mut progress);
-        run(&mut sim, scene.duration, output_interval, &mut all, signals.flag())
-    };
-    let (summary, report, errors) = write_summary(path, &out, &sim, &stats, &signals, result, &mut written);
+    let result = driver.run(&mut sim, vec![&mut progress], signals.flag());
+    let signal = signals.received().map(|s| s.name);
+    let Ended { report, summary, errors, written } = driver.finish(&sim, result, signal);
     // The step actually taken: `dt`, or the output interval when that is shorter (a step never
     // crosses an output time).
     let step = if output_interval < scene.setup.dt {
@@ -189,8 +183,7 @@ fn run_scene(args: &RunArgs) -> Result<(String, ExitCode), String> {
     for lost in &sim.record.lost {
         eprintln!("warning: particle {} became non-finite at t = {} s and was removed", lost.id, lost.time);
     }
-    // A file that failed is named on standard error, not as written.
-    written.retain(|p| !errors.iter().any(|e| &e.path == p));
+    // A file that failed is named on standard error, not as written (`Ended::written`).
     let names: Vec<String> = written.iter().map(|p| p.display().to_string()).collect();
     let _ = writeln!(text, "wrote {}", names.join(", "));
     Ok((text, exit_status(&report, scene.duration, &signals, &errors, sim.record.left_field.as_ref())))
@@ -210,43 +203,6 @@ fn report_stale(r: &wetbounce::output::stale::Removed) {
             names.join(", ")
         );
     }
-}
-
-/// Writes DIR/summary.json for a run that ended in any way — finished, stopped by a signal or
-/// by an output error — with the signal (`null` if none) and the output errors (`[]` if none).
-/// Returns the summary, how far the run went and every output error, summary.json's included.
-fn write_summary(
-    scene_path: &Path,
-    out: &Path,
-    sim: &wetbounce::Simulation,
-    stats: &Statistics,
-    signals: &StopSignals,
-    result: Result<RunReport, RunFailed>,
-    written: &mut Vec<PathBuf>,
-) -> (RunSummary, RunReport, Vec<OutputError>) {
-    let (report, mut errors) = match result {
-        Ok(report) => (report, Vec::new()),
-        Err(failed) => (failed.report, failed.errors),
-    };
-    let summary = RunSummary::new(sim, &report, stats);
-    let json_path = out.join("summary.json");
-    let mut json = summary.to_json();
-    json["scene"] = serde_json::Value::String(scene_path.display().to_string());
-    // The signal that stopped the run: one that came after its end stopped nothing.
-    let signal = signals.received().filter(|_| report.interrupted);
-    json["signal"] = signal.map_or(serde_json::Value::Null, |s| s.name.into());
-    if let Some(e) = &sim.record.left_field {
-        json["flow_error"] = serde_json::Value::String(e.to_string());
-    }
-    json["output_errors"] = errors.iter().map(|e| serde_json::Value::String(e.to_string())).collect();
-    let written_json = serde_json::to_string_pretty(&json)
-        .map_err(|e| OutputError::write(&json_path, e))
-        .and_then(|text| wetbounce::output::file::write_file(&json_path, &(text + "\n")));
-    match written_json {
-        Ok(()) => written.push(json_path),
-        Err(e) => errors.push(e),
-    }
-    (summary, report, errors)
 }
 
 /// Reports how the run ended on standard error and picks the exit status: 1 after an output

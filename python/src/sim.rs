@@ -12,9 +12,9 @@ use std::path::PathBuf;
 use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
 use std::time::{Duration, Instant};
 use wetbounce::contact::ContactEvent;
-use wetbounce::output::{Folder, Format, OutputError, Outputs, Progress, RunSummary, Sink, Statistics};
+use wetbounce::output::{Folder, Format, OutputError, Progress, RunSummary, Sink, Statistics};
 use wetbounce::pipeline::LostParticle;
-use wetbounce::run::{RunFailed, RunReport, run};
+use wetbounce::run::{Driver, Ended, RunFailed, RunReport};
 use wetbounce::scene::LoadOptions;
 
 /// How long the engine steps with the GIL released before Python's signal handlers get a
@@ -26,6 +26,13 @@ const CHUNK: Duration = Duration::from_millis(50);
 enum Row {
     Contact(ContactEvent),
     Lost(LostParticle),
+}
+
+/// A Python `UserWarning` (an earlier run's output that could not be removed: the run goes on).
+fn warn(py: Python<'_>, message: &str) -> PyResult<()> {
+    // A message with a NUL byte (a file name can hold none) would be cut there.
+    let text = std::ffi::CString::new(message.replace('\0', " ")).unwrap_or_default();
+    PyErr::warn(py, &py.get_type::<pyo3::exceptions::PyUserWarning>(), &text, 1)
 }
 
 /// A sink that keeps every event and the statistics of `summary.json`.
@@ -187,21 +194,26 @@ impl Simulation {
                 self.scene_path.file_stem().map_or("scene".into(), |s| s.to_string_lossy().into_owned())
             }
         });
-        let Outputs { mut sinks, mut written, .. } = match &out {
-            Some(dir) => {
-                let folder = Folder {
-                    out: dir,
-                    stem: &stem,
-                    scene_path: &self.scene_path,
-                    scene_source: &self.source,
-                    max_spheres,
-                    // The spin columns as `wetbounce run` decides them, so the files stay the CLI's.
-                    rotation: self.sim.setup.physics.rotation,
-                };
-                create_sinks(&formats, &folder)?
-            }
-            None => Outputs { sinks: Vec::new(), written: Vec::new(), stale: Default::default() },
-        };
+        let mut parsed = Vec::new();
+        for f in &formats {
+            parsed.push(Format::parse(f).map_err(|e| PyValueError::new_err(format!("formats: {e}")))?);
+        }
+        let folder = out.as_deref().map(|dir| Folder {
+            out: dir,
+            stem: &stem,
+            scene_path: &self.scene_path,
+            scene_source: &self.source,
+            max_spheres,
+            // The spin columns as `wetbounce run` decides them, so the files stay the CLI's.
+            rotation: self.sim.setup.physics.rotation,
+        });
+        // The CLI's driver (`wetbounce::run::Driver`): the same files, stale outputs removed,
+        // the same summary.json.
+        let mut driver = Driver::new(folder.as_ref(), &parsed, self.duration, interval)
+            .map_err(|errors| output_error(&errors))?;
+        for failed in &driver.stale().failed {
+            warn(py, &failed.to_string())?;
+        }
 
         let stop = AtomicBool::new(false);
         let done = AtomicBool::new(false);
@@ -216,14 +228,11 @@ impl Simulation {
         let (sim, collected) = (&mut self.sim, &mut self.collected);
         let result: Result<RunReport, RunFailed> = std::thread::scope(|s| {
             let worker = s.spawn(|| {
-                let mut all: Vec<&mut dyn Sink> =
-                    sinks.iter_mut().map(|s| s.as_mut() as &mut dyn Sink).collect();
-                all.push(collected);
-                all.push(&mut clock);
+                let mut extra: Vec<&mut dyn Sink> = vec![collected, &mut clock];
                 if let Some(p) = engine_bar.as_mut() {
-                    all.push(p);
+                    extra.push(p);
                 }
-                let r = run(sim, duration, interval, &mut all, &stop);
+                let r = driver.run(sim, extra, &stop);
                 done.store(true, Ordering::Release);
                 r
             });
@@ -262,30 +271,18 @@ impl Simulation {
                 Err(panic) => std::panic::resume_unwind(panic),
             }
         });
-        let (report, mut errors) = match result {
-            Ok(report) => (report, Vec::new()),
-            Err(failed) => (failed.report, failed.errors),
+        let signal = match &interrupt {
+            Some(e) if e.is_instance_of::<pyo3::exceptions::PyKeyboardInterrupt>(py) => {
+                Some("SIGINT".to_owned())
+            }
+            Some(e) => Some(e.get_type(py).name()?.to_string()),
+            None => None,
         };
+        let Ended { report, errors, written, .. } = driver.finish(&self.sim, result, signal.as_deref());
         self.lost_seen = self.sim.record.lost.len();
         self.wall_time += report.wall_time;
         self.frames = report.frames;
         self.interrupted = report.interrupted;
-        if let Some(dir) = &out {
-            let json_path = dir.join("summary.json");
-            let mut json = self.summary_value();
-            let signal = match &interrupt {
-                Some(e) if e.is_instance_of::<pyo3::exceptions::PyKeyboardInterrupt>(py) => "SIGINT".into(),
-                Some(e) => serde_json::Value::String(e.get_type(py).name()?.to_string()),
-                None => serde_json::Value::Null,
-            };
-            json["signal"] = if report.interrupted { signal } else { serde_json::Value::Null };
-            json["output_errors"] = errors.iter().map(|e| serde_json::Value::String(e.to_string())).collect();
-            let text = serde_json::to_string_pretty(&json).map_err(|e| OutputError::write(&json_path, e));
-            match text.and_then(|t| wetbounce::output::file::write_file(&json_path, &(t + "\n"))) {
-                Ok(()) => written.push(json_path),
-                Err(e) => errors.push(e),
-            }
-        }
         if let Some(e) = interrupt {
             return Err(e);
         }
@@ -294,16 +291,6 @@ impl Simulation {
         }
         Ok(written)
     }
-}
-
-/// The output folder of one run, as `wetbounce run` makes it (`output::Folder`, shared with the
-/// CLI): the same files for the same formats, and an earlier run's stale outputs removed.
-fn create_sinks(formats: &[String], folder: &Folder<'_>) -> PyResult<Outputs> {
-    let mut parsed = Vec::new();
-    for f in formats {
-        parsed.push(Format::parse(f).map_err(|e| PyValueError::new_err(format!("formats: {e}")))?);
-    }
-    folder.create(&parsed).map_err(|errors| output_error(&errors))
 }
 
 #[pymethods]

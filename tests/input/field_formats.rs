@@ -277,3 +277,38 @@ fn a_bead_that_leaves_the_field_stops_the_run_naming_it_its_position_and_the_tim
     let report = wetbounce::run::run(&mut sim, 2.0, 0.01, &mut [], &stop).unwrap();
     assert!(!report.interrupted && sim.record.left_field.is_none());
 }
+
+#[test]
+fn the_run_driver_writes_the_flow_error_into_summary_json_for_the_cli_and_python_alike() {
+    // Both `wetbounce run` and Python's `Simulation.run` end their runs through
+    // `run::Driver::finish` (issue 26, item 3); Python's summary.json lacked the flow error.
+    let dir = tempfile::tempdir().unwrap();
+    xml(image(2)).export(dir.path().join("u.vti")).unwrap();
+    let scene_path = dir.path().join("scene.toml");
+    let scene =
+        Scene::from_str(&bead_scene(r#"{ type = "field", file = "u.vti" }"#, 2.0), &scene_path).unwrap();
+    let mut sim = scene.simulation();
+    let out = dir.path().join("out");
+    let folder = wetbounce::output::Folder {
+        out: &out,
+        stem: "scene",
+        scene_path: &scene_path,
+        scene_source: &scene.source,
+        max_spheres: 10,
+        rotation: false,
+    };
+    let formats = [wetbounce::output::Format::Csv];
+    let mut driver = wetbounce::run::Driver::new(Some(&folder), &formats, 2.0, 0.01).unwrap();
+    let stop = std::sync::atomic::AtomicBool::new(false);
+    let result = driver.run(&mut sim, Vec::new(), &stop);
+    let ended = driver.finish(&sim, result, None);
+    assert!(ended.report.interrupted && ended.errors.is_empty());
+    let names: Vec<_> = ended.written.iter().map(|p| p.file_name().unwrap().to_owned()).collect();
+    assert_eq!(names, ["trajectories.csv", "events.csv", "summary.json"]);
+    let json: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("summary.json")).unwrap()).unwrap();
+    assert!(json["flow_error"].as_str().is_some_and(|e| e.contains("particle 0")), "{json}");
+    assert_eq!(json["interrupted"], true);
+    assert_eq!(json["signal"], serde_json::Value::Null);
+    assert_eq!(json["scene"], scene_path.display().to_string());
+}

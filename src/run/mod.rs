@@ -1,6 +1,10 @@
 //! The run driver: steps a simulation to its end, feeding frames and events to the sinks, and
 //! the signals that stop it cleanly ([`StopSignals`]).
 
+mod driver;
+
+pub use driver::{Driver, Ended};
+
 use crate::output::{OutputError, Sink};
 use crate::pipeline::Simulation;
 use std::fmt;
