@@ -316,113 +316,161 @@ struct StepWith<'a> {
 impl WithMotion for StepWith<'_> {
     type Out = ();
 
+    /// The stages of the module documentation, in order.
     fn run<M: Motion>(self, motion: &M) {
         let StepWith { world, setup, record, scratch, h } = self;
-        let (t0, t1) = (world.time, world.time + h);
-        // With the history effect, the memory at the start of the step is read by the flight
-        // kernel while the pass writes the memory at its end into `scratch.next` (commit swaps
-        // them, like the other columns). Empty without the effect.
-        let start_memory = std::mem::take(&mut world.particles.memory);
-        // In a field on an unstructured grid, the tetrahedra at the start of the step, read
-        // by the flight kernel; the end of the step finds the new ones (below). Empty
-        // otherwise.
-        let mut tets = std::mem::take(&mut world.particles.tet);
-        let flight =
-            Kernel::new(motion, &setup.physics, &setup.fluid, &setup.kinds, &setup.walls, t0 + 0.5 * h)
-                .remembering(
-                    &setup.physics,
-                    &setup.fluid,
-                    &start_memory,
-                    setup.physics.history.as_ref(),
-                    t1 - t0,
-                )
-                .walking_from(&tets);
-        let ctx = contact::Ctx::new(
-            &flight,
-            &setup.physics,
-            &setup.kinds,
-            &setup.fluid,
-            &setup.rule,
-            setup.impact_location,
-        );
-        let times = &mut record.stage_times;
+        let span = (world.time, world.time + h);
         let mut laps = Laps(Instant::now());
-        let p = &mut world.particles;
-        // 1. Release (pairs; at walls inside the pass).
-        contact::release_pairs(&ctx, p, &mut world.lasting, t1);
-        // 1.–3. (walls): one pass over the particles.
-        let pass = particle_pass::run(&flight, p, (t0, t1), &mut scratch.next, &mut scratch.wall_candidates);
-        if flight.rotation() {
-            particle_pass::spin(&flight, p, h, &mut scratch.next);
-        }
-        laps.lap(&mut times.particle_pass);
-        // 3. Broad phase (pairs).
-        scratch.pair_candidates.clear();
-        if setup.pair_collisions {
-            let verlet = (pass.step_move, setup.skin_fraction);
-            let (next, lasting) = (&scratch.next, &world.lasting);
-            contact::candidate_pairs(
-                p,
-                next,
-                &mut world.neighbours,
-                verlet,
-                lasting,
-                &mut scratch.pair_candidates,
-            );
-        }
-        let neighbour_pairs: &[[u32; 2]] = if setup.pair_collisions { &world.neighbours.pairs } else { &[] };
-        laps.lap(&mut times.broad_phase);
-        // 4. Contacts in the step.
+        // The events of this step are those from here on (stage 4 records the first).
         let first_event = record.events.len();
-        let candidates = (&scratch.wall_candidates[..], &scratch.pair_candidates[..]);
-        let (next, events, lasting) = (&mut scratch.next, &mut record.events, &mut world.lasting);
-        let mut suspect = pass.suspect;
-        suspect |= contact::resolve_in_step(&ctx, p, (t0, t1), candidates, next, events, lasting);
-        laps.lap(&mut times.in_step);
-        // 5. Lasting contacts.
-        let wall_contacts = &mut world.wall_contacts;
-        suspect |= contact::keep_lasting(&ctx, p, next, lasting, neighbour_pairs, wall_contacts, h);
-        laps.lap(&mut times.lasting);
-        drop(ctx);
-        drop(flight);
-        // The tetrahedron holding each particle's end of the step, walking from its start's:
+        // The columns the flight kernel reads for the whole step while stages 1–5 write the
+        // particles: the history memory at the start of the step (the pass writes its end into
+        // `scratch.next`; commit swaps them like the other columns) and, in a field on an
+        // unstructured grid, the tetrahedra at the start of the step. Empty without them.
+        let start_memory = std::mem::take(&mut world.particles.memory);
+        let mut tets = std::mem::take(&mut world.particles.tet);
+        // 1.–5.
+        let suspect = move_and_collide(
+            motion,
+            (world, setup, record, scratch),
+            (&start_memory, &tets),
+            span,
+            &mut laps,
+        );
+        // 5½. The tetrahedron holding each particle's end of the step, walking from its start's:
         // before commit, so that the column is renumbered with the others.
-        if let Some(field) = setup.fluid.flow.field()
-            && !tets.is_empty()
-        {
-            tets.par_iter_mut().zip(next.pos.par_iter()).for_each(|(t, &x)| *t = field.tet_of(*t, x));
-        }
-        p.tet = tets;
+        locate_in_grid(setup, &mut tets, &scratch.next);
+        world.particles.tet = tets;
         // 6. Commit.
-        let mut renumbered = commit::run(p, next, suspect, t1, &mut record.lost, lasting);
-        laps.lap(&mut times.commit);
-        // 7. Outflow, then inflow: a particle injected in this step is not judged by an outlet
-        // before it has moved.
-        let step_events = &record.events[first_event..];
-        renumbered |= outlets::run(&setup.outlets, &mut record.removed, p, step_events, t1, lasting);
-        renumbered |=
-            inject::run(&setup.injectors, &mut world.injection, &setup.walls, p, &mut world.next_id, t1);
+        let mut renumbered = commit::run(
+            &mut world.particles,
+            &mut scratch.next,
+            suspect,
+            span.1,
+            &mut record.lost,
+            &mut world.lasting,
+        );
+        laps.lap(&mut record.stage_times.commit);
+        // 7. Outflow, then inflow.
+        renumbered |= outflow_and_inflow(world, setup, record, first_event, span.1);
         if renumbered {
             world.neighbours.invalidate();
         }
-        // A flow field whose outside is an error: the first particle (in index order) left
-        // outside it after the outlets have taken theirs. Inside the step an integrator stage
-        // that strays outside got the nearest point's velocity.
-        if let Some(field) = setup.fluid.flow.field()
-            && field.outside == Outside::Error
-            && record.left_field.is_none()
-        {
-            // A particle with a tetrahedron is inside: only the others are looked up.
-            let unknown = |i: usize| p.tet.get(i).is_none_or(|&t| t == NO_TET);
-            record.left_field = (0..p.len())
-                .find(|&i| unknown(i) && !field.contains(p.pos[i]))
-                .map(|i| OutsideField { id: p.id[i], position: p.pos[i], time: t1 });
-        }
-        laps.lap(&mut times.inflow_outflow);
+        check_inside_field(world, setup, record, span.1);
+        laps.lap(&mut record.stage_times.inflow_outflow);
         // 8. Emit: the step's events wait in `record.events` for the sinks.
-        world.time = t1;
+        world.time = span.1;
         world.steps += 1;
         // The memory at the start of the step becomes the next step's scratch.
         scratch.next.memory = start_memory;
     }
+}
+
+/// Stages 1–5 over `(t0, t1)`: release, free flight and broad phase (one pass over the
+/// particles), contacts in the step, lasting contacts; the state at the end of the step in
+/// `scratch.next`. The flight kernel reads `start_memory` and `tets` (see
+/// [`StepWith::run`]). Returns true when a particle's new state may not be finite.
+fn move_and_collide<M: Motion>(
+    motion: &M,
+    (world, setup, record, scratch): (&mut World, &Setup, &mut Record, &mut Scratch),
+    (start_memory, tets): (&[glam::DVec3], &[u32]),
+    (t0, t1): (f64, f64),
+    laps: &mut Laps,
+) -> bool {
+    let h = t1 - t0;
+    let flight = Kernel::new(motion, &setup.physics, &setup.fluid, &setup.kinds, &setup.walls, t0 + 0.5 * h)
+        .remembering(&setup.physics, &setup.fluid, start_memory, setup.physics.history.as_ref(), h)
+        .walking_from(tets);
+    let ctx = contact::Ctx::new(
+        &flight,
+        &setup.physics,
+        &setup.kinds,
+        &setup.fluid,
+        &setup.rule,
+        setup.impact_location,
+    );
+    let times = &mut record.stage_times;
+    let p = &mut world.particles;
+    // 1. Release (pairs; at walls inside the pass).
+    contact::release_pairs(&ctx, p, &mut world.lasting, t1);
+    // 1.–3. (walls): one pass over the particles.
+    let pass = particle_pass::run(&flight, p, (t0, t1), &mut scratch.next, &mut scratch.wall_candidates);
+    if flight.rotation() {
+        particle_pass::spin(&flight, p, h, &mut scratch.next);
+    }
+    laps.lap(&mut times.particle_pass);
+    // 3. Broad phase (pairs).
+    scratch.pair_candidates.clear();
+    if setup.pair_collisions {
+        let verlet = (pass.step_move, setup.skin_fraction);
+        let (next, lasting) = (&scratch.next, &world.lasting);
+        contact::candidate_pairs(
+            p,
+            next,
+            &mut world.neighbours,
+            verlet,
+            lasting,
+            &mut scratch.pair_candidates,
+        );
+    }
+    let neighbour_pairs: &[[u32; 2]] = if setup.pair_collisions { &world.neighbours.pairs } else { &[] };
+    laps.lap(&mut times.broad_phase);
+    // 4. Contacts in the step.
+    let candidates = (&scratch.wall_candidates[..], &scratch.pair_candidates[..]);
+    let (next, events, lasting) = (&mut scratch.next, &mut record.events, &mut world.lasting);
+    let mut suspect = pass.suspect;
+    suspect |= contact::resolve_in_step(&ctx, p, (t0, t1), candidates, next, events, lasting);
+    laps.lap(&mut times.in_step);
+    // 5. Lasting contacts.
+    let wall_contacts = &mut world.wall_contacts;
+    suspect |= contact::keep_lasting(&ctx, p, next, lasting, neighbour_pairs, wall_contacts, h);
+    laps.lap(&mut times.lasting);
+    suspect
+}
+
+/// In a field on an unstructured grid, each particle's tetrahedron at the end of the step
+/// (`next`), found by walking from its start's (`tets`); nothing otherwise.
+fn locate_in_grid(setup: &Setup, tets: &mut [u32], next: &Next) {
+    if let Some(field) = setup.fluid.flow.field()
+        && !tets.is_empty()
+    {
+        tets.par_iter_mut().zip(next.pos.par_iter()).for_each(|(t, &x)| *t = field.tet_of(*t, x));
+    }
+}
+
+/// Stage 7 at `t1`: the outlets take out the particles that left through them, then the
+/// injectors add those due — a particle injected in this step is not judged by an outlet
+/// before it has moved. The step's events are those of `record.events` from `first_event` on
+/// (a caller may step several times before handing events on). Returns true when particles
+/// were renumbered.
+fn outflow_and_inflow(
+    world: &mut World,
+    setup: &Setup,
+    record: &mut Record,
+    first_event: usize,
+    t1: f64,
+) -> bool {
+    let (p, lasting) = (&mut world.particles, &mut world.lasting);
+    let step_events = &record.events[first_event..];
+    let mut renumbered = outlets::run(&setup.outlets, &mut record.removed, p, step_events, t1, lasting);
+    renumbered |=
+        inject::run(&setup.injectors, &mut world.injection, &setup.walls, p, &mut world.next_id, t1);
+    renumbered
+}
+
+/// A flow field whose outside is an error: the first particle (in index order) left outside
+/// it after the outlets have taken theirs, recorded in `record.left_field` (the driver stops
+/// the run). Inside the step an integrator stage that strays outside got the nearest point's
+/// velocity.
+fn check_inside_field(world: &World, setup: &Setup, record: &mut Record, t1: f64) {
+    let Some(field) = setup.fluid.flow.field() else { return };
+    if field.outside != Outside::Error || record.left_field.is_some() {
+        return;
+    }
+    let p = &world.particles;
+    // A particle with a tetrahedron is inside: only the others are looked up.
+    let unknown = |i: usize| p.tet.get(i).is_none_or(|&t| t == NO_TET);
+    record.left_field = (0..p.len())
+        .find(|&i| unknown(i) && !field.contains(p.pos[i]))
+        .map(|i| OutsideField { id: p.id[i], position: p.pos[i], time: t1 });
 }

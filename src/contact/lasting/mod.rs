@@ -3,8 +3,9 @@
 //! approach again. Both are kept by projection, Gauss–Seidel over the contacts in index order
 //! (deterministic), with the walls the particles touch.
 
+mod velocities;
+
 use super::Ctx;
-use super::rules::Friction;
 use crate::flight::Motion;
 use crate::particles::{Next, Particles, State};
 use crate::walls::{Surface, push_out};
@@ -94,120 +95,6 @@ pub fn remove_particles(p: &mut Particles, keep: &[bool], lasting: &mut Vec<Last
     });
 }
 
-/// One wall a moving particle touches, in the velocity sweeps: the particle's place among the
-/// involved, the wall's normal towards it, and the impulse accumulated so far (N s).
-struct WallRow {
-    k: usize,
-    /// The warm start's key: the wall's index and part.
-    wall: (u32, crate::walls::Part),
-    n: DVec3,
-    impulse: f64,
-    /// With friction: its rows (the wall is `b`).
-    friction: Option<FrictionRows>,
-}
-
-/// One pair in the velocity sweeps: the two particles' places among the involved, the normal
-/// from `a` to `b`, and the impulse pushing them apart accumulated so far (N s).
-struct PairRow {
-    a: usize,
-    b: usize,
-    n: DVec3,
-    impulse: f64,
-    /// With friction, for a resting pair (a hold is a bond and has none).
-    friction: Option<FrictionRows>,
-}
-
-/// The friction rows of one contact **[ext]** (docs/physics.md §9): Coulomb friction on the contact
-/// point's slip and rolling resistance on the relative rolling, each an impulse accumulated over
-/// the sweeps (N s, and N m s, on `a`) and kept inside its cone: `|J_t| ≤ μ N`,
-/// `|L_r| ≤ μ_r R N`, `N` the contact's accumulated normal impulse plus `support`.
-struct FrictionRows {
-    f: Friction,
-    /// Normal impulse (N s) the flight kernel already gave a particle resting on this wall: it
-    /// slid along the wall, its push into the wall removed there, not by a row of this solver.
-    support: f64,
-    /// Lever arm of the rolling resistance, the reduced radius (m).
-    arm: f64,
-    tangent: DVec3,
-    rolling: DVec3,
-}
-
-/// The state of the friction sweeps: each involved particle's spin, inverse moment of inertia
-/// and radius.
-struct Spins {
-    omega: Vec<DVec3>,
-    inv_moment: Vec<f64>,
-    radius: Vec<f64>,
-}
-
-impl FrictionRows {
-    fn new(f: Friction, support: f64, arm: f64, warm: Option<(DVec3, DVec3)>, n: DVec3, h: f64) -> Self {
-        let (tangent, rolling) = match warm {
-            // The last step's force, turned into this step's tangent plane (the normal moved).
-            Some((t, r)) => ((t - t.dot(n) * n) * h, (r - r.dot(n) * n) * h),
-            None => (DVec3::ZERO, DVec3::ZERO),
-        };
-        FrictionRows { f, support, arm, tangent, rolling }
-    }
-
-    /// One Gauss–Seidel update of the friction and rolling rows of the contact between `a` and
-    /// `b` (`b = None`: a wall) with normal `n` from `a` to `b` and accumulated normal impulse
-    /// `normal`; returns the largest velocity change it made (m/s).
-    fn sweep(
-        &mut self,
-        (vel, s): (&mut [DVec3], &mut Spins),
-        (a, wa): (usize, f64),
-        b: Option<(usize, f64)>,
-        n: DVec3,
-        normal: f64,
-    ) -> f64 {
-        let load = (normal + self.support).max(0.0);
-        let (ra, ia) = (s.radius[a], s.inv_moment[a]);
-        let (vb, ob, rb, ib, wb) = match b {
-            Some((b, wb)) => (vel[b], s.omega[b], s.radius[b], s.inv_moment[b], wb),
-            None => (DVec3::ZERO, DVec3::ZERO, 0.0, 0.0, 0.0),
-        };
-        // Coulomb: the impulse that stops the slip, inside the cone.
-        let u = (vel[a] + s.omega[a].cross(ra * n)) - (vb + ob.cross(-rb * n));
-        let slip = u - u.dot(n) * n;
-        let c = wa + wb + ra * ra * ia + rb * rb * ib;
-        let mut worst: f64 = 0.0;
-        if c > 0.0 {
-            let new = clamp_length(self.tangent - slip / c, self.f.mu * load);
-            let dj = new - self.tangent;
-            self.tangent = new;
-            vel[a] += dj * wa;
-            s.omega[a] += (ra * n).cross(dj) * ia;
-            if let Some((b, wb)) = b {
-                vel[b] -= dj * wb;
-                s.omega[b] += (rb * n).cross(dj) * ib;
-            }
-            worst = worst.max(dj.length() * c);
-        }
-        // Rolling resistance: the angular impulse that stops the relative rolling, inside its
-        // cone (a torque up to μ_r R N).
-        if self.f.rolling > 0.0 && ia + ib > 0.0 {
-            let w = s.omega[a] - b.map_or(DVec3::ZERO, |(b, _)| s.omega[b]);
-            let rolling = w - w.dot(n) * n;
-            let new = clamp_length(self.rolling - rolling / (ia + ib), self.f.rolling * self.arm * load);
-            let dl = new - self.rolling;
-            self.rolling = new;
-            s.omega[a] += dl * ia;
-            if let Some((b, _)) = b {
-                s.omega[b] -= dl * ib;
-            }
-            worst = worst.max(dl.length() * (ia + ib) * self.arm);
-        }
-        worst
-    }
-}
-
-/// `v` shortened to length `limit` when longer.
-fn clamp_length(v: DVec3, limit: f64) -> DVec3 {
-    let l2 = v.length_squared();
-    if l2 > limit * limit { v * (limit / l2.sqrt()) } else { v }
-}
-
 /// Gap beyond which a resting pair has separated (relative to the sum of radii): hysteresis,
 /// so that neighbours at rest do not break and re-make their contact every step.
 const SEPARATED: f64 = 1e-3;
@@ -217,15 +104,6 @@ const SWEEPS: usize = 20;
 /// Rounds of (find overlapping neighbours, project) per step.
 const ROUNDS: usize = 2;
 const TOLERANCE: f64 = 1e-3;
-/// Velocity sweeps per step, at most; they stop early once no sweep changes a velocity by
-/// more than `VELOCITY_TOLERANCE` times what gravity adds in the step, `g Δt`.
-const VELOCITY_SWEEPS: usize = 30;
-const VELOCITY_TOLERANCE: f64 = 1e-2;
-/// With friction: a bed at rest is the point of friction, so the sweeps go on until no
-/// velocity changes by more than 1e-4 `g Δt`, up to 100 sweeps.
-const FRICTION_VELOCITY_SWEEPS: usize = 100;
-const FRICTION_VELOCITY_TOLERANCE: f64 = 1e-4;
-
 /// The neighbour pairs that overlap by more than `TOLERANCE` of their reach (the sum of the
 /// radii, `reach_of`) and are not in `known`, as new resting contacts.
 fn new_overlaps(
@@ -334,7 +212,7 @@ pub(crate) fn keep_lasting<M: Motion>(
     // millimetres per second, dozens of times a second in a 300-bead bed.
     let flown: Vec<DVec3> = if friction { involved.iter().map(|&i| v[i]).collect() } else { Vec::new() };
     let spins = friction.then_some((&mut next.omega[..], &next.wall[..], wall_contacts));
-    solve_velocities(ctx, p, (x, v, state), spins, contacts, &involved, &w, h);
+    velocities::solve(ctx, p, (x, v, state), spins, contacts, (&involved, &w), h);
     for (&i, &flown) in involved.iter().zip(&flown) {
         x[i] += (M::DISPLACEMENT_SHARE * h) * (v[i] - flown);
     }
@@ -460,192 +338,6 @@ fn places(n: usize, involved: &[usize]) -> Places<'_> {
         place[i] = k as u32;
     }
     Places::Table(place)
-}
-
-/// Sequential impulses (projected Gauss–Seidel) on the velocities of the particles involved:
-/// a hold makes the pair move together; a resting contact, and the walls they touch, may not
-/// approach. Each non-penetration impulse is *accumulated* over the sweeps and kept ≥ 0, so an
-/// impulse that an early sweep gave in excess is taken back by a later one — rather than left
-/// as a velocity that throws the pair apart, which is what kept a bed jittering at ~`g Δt`.
-/// A pair's impulse starts from the force it carried in the last step (warm start), and the
-/// force found is kept for the next.
-///
-/// With friction (`spins`: the spin column and each particle's wall), every contact and wall
-/// row also has its friction rows ([`FrictionRows`]), updated right after its normal row, and
-/// warm-started like it.
-#[allow(clippy::too_many_arguments)]
-fn solve_velocities<M: Motion>(
-    ctx: &Ctx<M>,
-    p: &Particles,
-    (x, v, state): (&[DVec3], &mut [DVec3], &[State]),
-    spins: Option<(&mut [DVec3], &[u32], &mut Vec<WallContact>)>,
-    contacts: &mut [LastingContact],
-    involved: &[usize],
-    w: &impl Fn(usize) -> f64,
-    h: f64,
-) {
-    // The sweeps work on compact copies: the involved particles' velocities and inverse
-    // inertias, contacts by position in `involved`.
-    // A lookup table: a binary search per contact end cost more than the sweeps.
-    let place = places(p.len(), involved);
-    let local = |i: u32| place.of(i as usize);
-    let inv: Vec<f64> = involved.iter().map(|&i| w(i)).collect();
-    let mut vel: Vec<DVec3> = involved.iter().map(|&i| v[i]).collect();
-    let (omega, wall_of, mut wall_contacts) = match spins {
-        Some((omega, wall_of, last)) => (Some(omega), Some(wall_of), Some(last)),
-        None => (None, None, None),
-    };
-    let mut spin = omega.as_ref().map(|omega| Spins {
-        omega: involved.iter().map(|&i| omega[i]).collect(),
-        inv_moment: involved
-            .iter()
-            .zip(&inv)
-            .map(
-                |(&i, &w)| if w > 0.0 { 1.0 / ctx.moment_of(p.kind[i] as usize, p.diameter[i]) } else { 0.0 },
-            )
-            .collect(),
-        radius: involved.iter().map(|&i| 0.5 * p.diameter[i]).collect(),
-    });
-    let mut walls: Vec<WallRow> = Vec::new();
-    for (k, &i) in involved.iter().enumerate().filter(|&(k, _)| inv[k] > 0.0) {
-        let r = 0.5 * p.diameter[i];
-        // A sphere grown by twice the tolerance: clear of it, no part is within the tolerance.
-        let near = |wall: &&crate::walls::Wall| wall.shape.may_touch(x[i], x[i], r * (1.0 + 2.0 * TOLERANCE));
-        // With friction, a particle resting on a wall slid on it in the flight kernel, which took
-        // out its push into the wall: that push, `m max(0, −a·n) h`, is the wall's normal
-        // impulse on it, and bounds its friction.
-        let resting_on = wall_of.filter(|_| state[i] == State::Resting).map(|walls| walls[i] as usize);
-        for (wi, wall) in ctx.walls().iter().enumerate().filter(|(_, w)| near(w)) {
-            wall.shape.touching(x[i], r, TOLERANCE * r, |part, g| {
-                let key = (wi as u32, part);
-                // With friction, the last step's forces at this wall (none: a new contact).
-                let warm = wall_contacts.as_ref().and_then(|last| {
-                    let found = last.binary_search_by(|c| (c.id, c.wall).cmp(&(p.id[i], key)));
-                    found.ok().map(|at| last[at])
-                });
-                let friction = spin.as_ref().map(|_| {
-                    let kind = &ctx.kinds[p.kind[i] as usize];
-                    let support = if resting_on == Some(wi) {
-                        let a = ctx.flight.acceleration((p.kind[i] as usize, p.diameter[i]), x[i], v[i]);
-                        (-a.dot(g.normal)).max(0.0) * h / inv[k]
-                    } else {
-                        0.0
-                    };
-                    let f = Friction::between(&kind.friction, &wall.material.friction);
-                    FrictionRows::new(f, support, r, warm.map(|c| c.friction), -g.normal, h)
-                });
-                let impulse = warm.map_or(0.0, |c| (c.force * h).max(0.0));
-                walls.push(WallRow { k, wall: key, n: g.normal, impulse, friction })
-            });
-        }
-    }
-    let mut rows: Vec<PairRow> = contacts
-        .iter()
-        .map(|c| {
-            let n = (x[c.b as usize] - x[c.a as usize]).normalize_or(DVec3::Z);
-            let warm = if c.hold.is_none() { (c.force * h).max(0.0) } else { 0.0 };
-            let friction = spin.as_ref().filter(|_| c.hold.is_none()).map(|_| {
-                let (ka, kb) =
-                    (&ctx.kinds[p.kind[c.a as usize] as usize], &ctx.kinds[p.kind[c.b as usize] as usize]);
-                let (ra, rb) = (0.5 * p.diameter[c.a as usize], 0.5 * p.diameter[c.b as usize]);
-                let f = Friction::between(&ka.friction, &kb.friction);
-                FrictionRows::new(f, 0.0, ra * rb / (ra + rb), c.friction, -n, h)
-            });
-            PairRow { a: local(c.a), b: local(c.b), n, impulse: warm, friction }
-        })
-        .collect();
-    // Warm start: the last step's wall forces, as `FrictionRows::sweep` applies them (the wall
-    // is `b`, the normal from the particle to it `−n`).
-    for WallRow { k, n, impulse: j, friction, .. } in &walls {
-        vel[*k] += *n * *j * inv[*k];
-        if let (Some(fr), Some(s)) = (friction, spin.as_mut()) {
-            let (rt, rr) = (fr.tangent, fr.rolling);
-            vel[*k] += rt * inv[*k];
-            s.omega[*k] += (s.radius[*k] * -*n).cross(rt) * s.inv_moment[*k] + rr * s.inv_moment[*k];
-        }
-    }
-    for PairRow { a, b, n, impulse: j, friction } in &rows {
-        let (a, b, n, j) = (*a, *b, *n, *j);
-        vel[a] -= n * j * inv[a];
-        vel[b] += n * j * inv[b];
-        // The last step's friction as well: on `a` (contact point at `+r_a n`), its opposite on
-        // `b` (at `−r_b n`), as `FrictionRows::sweep` applies it.
-        if let (Some(fr), Some(s)) = (friction, spin.as_mut()) {
-            let (rt, rr) = (fr.tangent, fr.rolling);
-            vel[a] += rt * inv[a];
-            vel[b] -= rt * inv[b];
-            s.omega[a] += (s.radius[a] * n).cross(rt) * s.inv_moment[a] + rr * s.inv_moment[a];
-            s.omega[b] += (s.radius[b] * n).cross(rt) * s.inv_moment[b] - rr * s.inv_moment[b];
-        }
-    }
-    let (sweeps, tolerance) = if spin.is_some() {
-        (FRICTION_VELOCITY_SWEEPS, FRICTION_VELOCITY_TOLERANCE * ctx.fluid.gravity.length() * h)
-    } else {
-        (VELOCITY_SWEEPS, VELOCITY_TOLERANCE * ctx.fluid.gravity.length() * h)
-    };
-    for _ in 0..sweeps {
-        let mut worst: f64 = 0.0;
-        for WallRow { k, n, impulse: acc, friction, .. } in walls.iter_mut() {
-            let new = (*acc - vel[*k].dot(*n) / inv[*k]).max(0.0);
-            let dv = (new - *acc) * inv[*k];
-            vel[*k] += *n * dv;
-            *acc = new;
-            worst = worst.max(dv.abs());
-            if let (Some(fr), Some(s)) = (friction.as_mut(), spin.as_mut()) {
-                // The wall is `b`: the normal from the particle to it is `−n`.
-                worst = worst.max(fr.sweep((&mut vel, s), (*k, inv[*k]), None, -*n, *acc));
-            }
-        }
-        for (c, PairRow { a, b, n, impulse: acc, friction }) in contacts.iter().zip(rows.iter_mut()) {
-            let (a, b, n) = (*a, *b, *n);
-            let (wa, wb) = (inv[a], inv[b]);
-            if wa + wb == 0.0 {
-                continue;
-            }
-            if c.hold.is_some() {
-                let u = vel[b] - vel[a];
-                vel[a] += u * wa / (wa + wb);
-                vel[b] -= u * wb / (wa + wb);
-                worst = worst.max(u.length());
-            } else {
-                let new = (*acc - (vel[b] - vel[a]).dot(n) / (wa + wb)).max(0.0);
-                let dj = new - *acc;
-                vel[a] -= n * dj * wa;
-                vel[b] += n * dj * wb;
-                *acc = new;
-                worst = worst.max(dj * (wa + wb)).max(-dj * (wa + wb));
-                if let (Some(fr), Some(s)) = (friction.as_mut(), spin.as_mut()) {
-                    worst = worst.max(fr.sweep((&mut vel, s), (a, wa), Some((b, wb)), n, *acc));
-                }
-            }
-        }
-        if worst <= tolerance {
-            break;
-        }
-    }
-    for (k, &i) in involved.iter().enumerate() {
-        v[i] = vel[k];
-    }
-    if let (Some(omega), Some(s)) = (omega, spin) {
-        for (k, &i) in involved.iter().enumerate() {
-            omega[i] = s.omega[k];
-        }
-    }
-    for (c, row) in contacts.iter_mut().zip(rows) {
-        c.force = row.impulse / h;
-        c.friction = row.friction.map(|f| (f.tangent / h, f.rolling / h));
-    }
-    if let Some(last) = wall_contacts.as_mut() {
-        last.clear();
-        last.extend(walls.iter().map(|row| WallContact {
-            id: p.id[involved[row.k]],
-            wall: row.wall,
-            force: row.impulse / h,
-            friction:
-                row.friction.as_ref().map_or((DVec3::ZERO, DVec3::ZERO), |f| (f.tangent / h, f.rolling / h)),
-        }));
-        last.sort_unstable_by_key(|c| (c.id, c.wall));
-    }
 }
 
 /// Stage 1 for pairs: a held pair whose hold ends before `t1` gets its release velocities
