@@ -60,7 +60,7 @@ pub trait Scheme: Copy + Send + Sync + 'static {
     /// Under a constant acceleration the step moves a particle by `h v + θ h (v(h) − v)`: θ is
     /// the share of the step's change of velocity in its displacement. The lasting-contact
     /// solver moves a particle by θ h times the velocity it takes away, so that a particle it
-    /// holds at rest ends the step where it began (contact/lasting.rs).
+    /// holds at rest ends the step where it began (contact/lasting/mod.rs).
     const DISPLACEMENT_SHARE: f64;
     /// Advances `(x, v)` by `h` (s) under `f`; returns the new `(x, v)`. Of one particle or of
     /// a lane group, with the same operations in the same order.
