@@ -290,8 +290,7 @@ fn main() {
                 let mut sim = base.simulation();
                 sim.setup.pair_collisions = case != "paper-no-pairs";
                 if case == "field-vtu-bvh" {
-                    sim.world.particles.remembers_tet = false;
-                    sim.world.particles.tet.clear();
+                    sim.world.particles.tet = wetbounce::particles::Column::off(0);
                 }
                 let count = sim.world.particles.len();
                 // At least 200 steps (20 ms): enough for the Verlet list to be rebuilt in `pairs5`.

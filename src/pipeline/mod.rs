@@ -48,7 +48,7 @@ use crate::flight::{Kernel, Motion, StepFlow, WithMotion, dispatch};
 use crate::fluid::Fluid;
 use crate::fluid::field::{Outside, OutsideField};
 use crate::integrate::IntegratorKind;
-use crate::particles::{NO_TET, Next, ParticleKind, Particles};
+use crate::particles::{Column, NO_TET, Next, ParticleKind, Particles};
 use crate::walls::Wall;
 use inject::{Injector, InjectorState};
 use outlets::{Outlet, Removal};
@@ -216,12 +216,11 @@ impl Simulation {
     /// A simulation at time 0 of `particles` under `setup`.
     pub fn new(setup: Setup, mut particles: Particles) -> Self {
         if let Some(kernel) = &setup.physics.history
-            && particles.memory_modes == 0
+            && !particles.memory.is_on()
         {
             // One memory per particle, allocated only here, when a run starts
             // (docs/physics.md §10): a scene that is only checked never holds it.
-            particles.memory_modes = kernel.modes();
-            particles.memory.resize(particles.len() * kernel.modes(), glam::DVec3::ZERO);
+            particles.memory = Column::new(kernel.modes(), glam::DVec3::ZERO, particles.len());
         }
         let next_id = particles.id.iter().max().map_or(0, |&i| i + 1);
         let world = World {
@@ -242,8 +241,10 @@ impl Simulation {
         mut particles: Particles,
     ) -> Result<Self, std::collections::TryReserveError> {
         let need = setup.physics.history.as_ref().map_or(0, |k| particles.len() * k.modes());
-        if particles.memory_modes == 0 {
-            particles.memory.try_reserve_exact(need)?;
+        if let Some(kernel) = &setup.physics.history
+            && !particles.memory.is_on()
+        {
+            particles.memory = Column::try_new(kernel.modes(), glam::DVec3::ZERO, particles.len())?;
         }
         let mut end_of_step = Vec::new();
         end_of_step.try_reserve_exact(need)?;
@@ -327,8 +328,8 @@ impl WithMotion for StepWith<'_> {
         // particles: the history memory at the start of the step (the pass writes its end into
         // `scratch.next`; commit swaps them like the other columns) and, in a field on an
         // unstructured grid, the tetrahedra at the start of the step. Empty without them.
-        let start_memory = std::mem::take(&mut world.particles.memory);
-        let mut tets = std::mem::take(&mut world.particles.tet);
+        let start_memory = world.particles.memory.take_values();
+        let mut tets = world.particles.tet.take_values();
         // 1.–5.
         let suspect = move_and_collide(
             motion,
@@ -340,7 +341,7 @@ impl WithMotion for StepWith<'_> {
         // 5½. The tetrahedron holding each particle's end of the step, walking from its start's:
         // before commit, so that the column is renumbered with the others.
         locate_in_grid(setup, &mut tets, &scratch.next);
-        world.particles.tet = tets;
+        world.particles.tet.swap_values(&mut tets);
         // 6. Commit.
         let mut renumbered = commit::run(
             &mut world.particles,
@@ -469,7 +470,7 @@ fn check_inside_field(world: &World, setup: &Setup, record: &mut Record, t1: f64
     }
     let p = &world.particles;
     // A particle with a tetrahedron is inside: only the others are looked up.
-    let unknown = |i: usize| p.tet.get(i).is_none_or(|&t| t == NO_TET);
+    let unknown = |i: usize| p.tet.values().get(i).is_none_or(|&t| t == NO_TET);
     record.left_field = (0..p.len())
         .find(|&i| unknown(i) && !field.contains(p.pos[i]))
         .map(|i| OutsideField { id: p.id[i], position: p.pos[i], time: t1 });

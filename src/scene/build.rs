@@ -227,8 +227,7 @@ pub(super) fn build(
         // One remembered tetrahedron per particle, for the walk (physics.md §7); found at the
         // end of the first step.
         let p = &mut scene.particles;
-        p.remembers_tet = true;
-        p.tet = vec![crate::particles::NO_TET; p.len()];
+        p.tet = crate::particles::Column::new(1, crate::particles::NO_TET, p.len());
     }
     if let Some(kernel) = &scene.setup.physics.history {
         // The memory itself is allocated when a run starts (`Simulation::new`), not here: a

@@ -83,15 +83,15 @@ fn history_slows_the_settling_against_the_same_bead_without_it() {
 fn memory_columns_exist_only_with_the_history_effect_one_vector_per_mode() {
     let plain = bead(1e-4, 1e-3, "gravity = {}\ndrag = {}").scene().simulation();
     let p = &plain.world.particles;
-    assert!(p.memory.is_empty() && p.memory_modes == 0);
+    assert!(p.memory.values().is_empty() && !p.memory.is_on());
     let scene = bead(1e-4, 1e-3, "gravity = {}\ndrag = {}\nhistory = {}").scene();
     // A loaded (or checked) scene holds no memory: it is allocated when the run starts.
-    assert!(scene.particles.memory.is_empty() && scene.particles.memory_modes == 0);
+    assert!(scene.particles.memory.values().is_empty() && !scene.particles.memory.is_on());
     let modes = scene.setup.physics.history.as_ref().unwrap().modes();
     let with = scene.simulation();
     let p = &with.world.particles;
-    assert_eq!(p.memory_modes, modes);
-    assert_eq!(p.memory.len(), modes * p.len());
+    assert_eq!(p.memory.width(), modes);
+    assert_eq!(p.memory.values().len(), modes * p.len());
 }
 
 /// A bead dropped onto the floor with history: it bounces, no contact gains energy, its memory
@@ -117,7 +117,7 @@ fn bouncing_with_history_gains_no_energy_and_starts_each_rebound_with_an_empty_m
             assert!(e.energy_after <= e.energy_before * (1.0 + 1e-12), "{e:?}");
             bounces += usize::from(e.outcome == wetbounce::Outcome::Bounced);
         }
-        let memory = &sim.world.particles.memory;
+        let memory = sim.world.particles.memory.values();
         let size = memory.iter().map(|m| m.length()).fold(0.0, f64::max);
         if !events.is_empty() {
             steps_since_bounce = 0;

@@ -1,5 +1,9 @@
 //! Particle kinds (materials) and the particle store, in columns.
 
+mod column;
+
+pub use column::Column;
+
 use glam::DVec3;
 
 /// What a particle is made of.
@@ -139,19 +143,15 @@ pub struct Particles {
     /// initial particles, the injection time for injected ones. An outlet's residence time is
     /// the removal time minus this.
     pub born: Vec<f64>,
-    /// With the history effect **[ext]** only (empty otherwise): each particle's memory of its
-    /// past accelerations, [`Particles::memory_modes`] vectors per particle (m/s each: the
+    /// With the history effect **[ext]** only (off otherwise): each particle's memory of its
+    /// past accelerations, [`Column::width`] vectors per particle, one per mode (m/s each: the
     /// mode `F_k = ∫ e^{−λ_k (t − s)} dw/ds ds` of the slip `w`; docs/physics.md §10).
-    pub memory: Vec<DVec3>,
-    /// Modes per particle in [`Particles::memory`]; 0 without the history effect.
-    pub memory_modes: usize,
-    /// With a flow field on an unstructured grid only (empty otherwise, see
-    /// [`Particles::remembers_tet`]): the grid's tetrahedron that held each particle at the end
-    /// of the last step, where the next step's flow lookups walk from
-    /// ([`crate::fluid::field::unstructured`]); [`NO_TET`] when outside or not known yet.
-    pub tet: Vec<u32>,
-    /// Whether [`Particles::tet`] is kept: set when the scene is built.
-    pub remembers_tet: bool,
+    pub memory: Column<DVec3>,
+    /// With a flow field on an unstructured grid only (off otherwise): the grid's tetrahedron
+    /// that held each particle at the end of the last step, where the next step's flow lookups
+    /// walk from ([`crate::fluid::field::unstructured`]); [`NO_TET`] when outside or not known
+    /// yet.
+    pub tet: Column<u32>,
 }
 
 /// No tetrahedron ([`Particles::tet`]): outside the grid, or not looked up yet.
@@ -181,11 +181,10 @@ impl Particles {
         self.release_time.push(f64::NEG_INFINITY);
         self.release_vel.push(DVec3::ZERO);
         self.born.push(0.0);
-        // A new particle remembers nothing: as if it had moved at its velocity forever.
-        self.memory.resize(self.memory.len() + self.memory_modes, DVec3::ZERO);
-        if self.remembers_tet {
-            self.tet.push(NO_TET);
-        }
+        // The features' columns (a new particle remembers nothing, as if it had moved at its
+        // velocity forever; its tetrahedron is not known yet).
+        self.memory.push();
+        self.tet.push();
         self.len() - 1
     }
 
@@ -206,18 +205,8 @@ impl Particles {
         column(&mut self.release_time, keep);
         column(&mut self.release_vel, keep);
         column(&mut self.born, keep);
-        if self.remembers_tet {
-            column(&mut self.tet, keep);
-        }
-        if self.memory_modes > 0 {
-            let modes = self.memory_modes;
-            let mut i = 0;
-            self.memory.retain(|_| {
-                let k = keep[i / modes];
-                i += 1;
-                k
-            });
-        }
+        self.memory.retain(keep);
+        self.tet.retain(keep);
     }
 }
 
@@ -282,12 +271,12 @@ impl Particles {
         }
         std::mem::swap(&mut self.state, &mut next.state);
         std::mem::swap(&mut self.wall, &mut next.wall);
-        if self.memory_modes > 0 {
-            std::mem::swap(&mut self.memory, &mut next.memory);
+        if self.memory.is_on() {
+            self.memory.swap_values(&mut next.memory);
             // A particle held at a wall or resting on one remembers nothing: its flight after
             // the release starts a new memory (docs/physics.md §10, "impact, hold and release").
-            let modes = self.memory_modes;
-            for (s, m) in self.state.iter().zip(self.memory.chunks_exact_mut(modes)) {
+            let modes = self.memory.width();
+            for (s, m) in self.state.iter().zip(self.memory.values_mut().chunks_exact_mut(modes)) {
                 if matches!(s, State::Held | State::Resting) {
                     m.fill(DVec3::ZERO);
                 }
