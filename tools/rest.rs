@@ -71,7 +71,7 @@ fn main() {
         let p = &sim.world.particles;
         let mut s: Vec<f64> = p.vel.iter().map(|v| v.length()).collect();
         s.sort_by(f64::total_cmp);
-        let spin = (0..p.len()).map(|i| p.omega[i].length() * 0.5 * p.diameter[i]).fold(0.0, f64::max);
+        let spin = (0..p.len()).map(|i| p.spin(i).length() * 0.5 * p.diameter[i]).fold(0.0, f64::max);
         let (m, q, top) = if s.is_empty() {
             (0.0, 0.0, 0.0)
         } else {

@@ -419,7 +419,10 @@ impl Simulation {
     /// exactly ``(0, 0, 0)``, and ``trajectories.csv`` has no such columns.
     #[getter]
     fn angular_velocities<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray2<f64>> {
-        Simulation::vectors(py, &self.sim.world.particles.omega)
+        // Zeros in a scene without rotation, as the docstring says.
+        let p = &self.sim.world.particles;
+        let spins: Vec<glam::DVec3> = (0..p.len()).map(|i| p.spin(i)).collect();
+        Simulation::vectors(py, &spins)
     }
 
     /// States, shape ``(n,)``, uint8: 0 free, 1 held (at a wall or in a pair), 2 resting —
@@ -473,7 +476,7 @@ impl Simulation {
         // The spin columns as trajectories.csv has them: only in a scene with rotation.
         if self.sim.setup.physics.rotation {
             for (axis, name) in ["wx", "wy", "wz"].into_iter().enumerate() {
-                d.set_item(name, component(&p.omega, axis))?;
+                d.set_item(name, component(p.omega.values(), axis))?;
             }
         }
         py.import("pandas")?.getattr("DataFrame")?.call1((d,))

@@ -58,7 +58,7 @@ impl Sink for TrajectoryCsv {
             let (x, v) = (p.pos[i], p.vel[i]);
             let row = (sim.world.time, p.id[i], x.x, x.y, x.z, v.x, v.y, v.z, p.state[i].name());
             let written = if self.rotation {
-                let w = p.omega[i];
+                let w = p.spin(i);
                 self.w.serialize((row, w.x, w.y, w.z))
             } else {
                 self.w.serialize(row)

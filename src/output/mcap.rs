@@ -312,7 +312,7 @@ impl McapSink {
             data.push(p.state[i].code());
             data.extend_from_slice(&p.kind[i].to_le_bytes());
             if self.rotation {
-                for w in p.omega[i].to_array() {
+                for w in p.spin(i).to_array() {
                     data.extend_from_slice(&w.to_le_bytes());
                 }
             }

@@ -118,7 +118,7 @@ impl Sink for RerunSink {
             self.log(
                 "particles/angular_velocity",
                 &rerun::Arrows3D::from_vectors(
-                    p.omega.iter().zip(&p.diameter).map(|(w, d)| f3(*w * (0.5 * d) * 0.01)),
+                    p.omega.values().iter().zip(&p.diameter).map(|(w, d)| f3(*w * (0.5 * d) * 0.01)),
                 )
                 .with_origins(p.pos.iter().map(|x| f3(*x))),
             )?;

@@ -211,7 +211,7 @@ fn particles_piece(sim: &Simulation) -> PolyDataPiece {
     ];
     let mut point = point;
     if sim.setup.physics.rotation {
-        let omega: Vec<f64> = p.omega.iter().flat_map(|w| w.to_array()).collect();
+        let omega: Vec<f64> = p.omega.values().iter().flat_map(|w| w.to_array()).collect();
         point.push(Attribute::generic("angular_velocity", 3).with_data(omega));
     }
     PolyDataPiece {

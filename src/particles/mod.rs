@@ -126,9 +126,9 @@ pub struct Particles {
     pub pos: Vec<DVec3>,
     /// Velocity (m/s).
     pub vel: Vec<DVec3>,
-    /// Angular velocity `ω` (rad/s) **[ext]**: stays zero in a scene without rotation
-    /// (docs/physics.md §9), which never reads nor writes it in the step.
-    pub omega: Vec<DVec3>,
+    /// Angular velocity `ω` (rad/s) **[ext]**: a column only in a scene with rotation
+    /// (docs/physics.md §9), off otherwise (read it with [`Particles::spin`], zero then).
+    pub omega: Column<DVec3>,
     /// Free, held or resting.
     pub state: Vec<State>,
     /// The wall a held ([`State::Held`]) or resting particle touches, [`NO_WALL`] otherwise.
@@ -168,6 +168,11 @@ impl Particles {
         self.id.is_empty()
     }
 
+    /// Particle `i`'s angular velocity (rad/s): zero in a scene without rotation.
+    pub fn spin(&self, i: usize) -> DVec3 {
+        self.omega.values().get(i).copied().unwrap_or(DVec3::ZERO)
+    }
+
     /// Appends a free particle and returns its index.
     pub fn push(&mut self, id: u32, kind: u16, diameter: f64, pos: DVec3, vel: DVec3) -> usize {
         self.id.push(id);
@@ -175,7 +180,6 @@ impl Particles {
         self.diameter.push(diameter);
         self.pos.push(pos);
         self.vel.push(vel);
-        self.omega.push(DVec3::ZERO);
         self.state.push(State::Free);
         self.wall.push(NO_WALL);
         self.release_time.push(f64::NEG_INFINITY);
@@ -183,6 +187,7 @@ impl Particles {
         self.born.push(0.0);
         // The features' columns (a new particle remembers nothing, as if it had moved at its
         // velocity forever; its tetrahedron is not known yet).
+        self.omega.push();
         self.memory.push();
         self.tet.push();
         self.len() - 1
@@ -199,12 +204,12 @@ impl Particles {
         column(&mut self.diameter, keep);
         column(&mut self.pos, keep);
         column(&mut self.vel, keep);
-        column(&mut self.omega, keep);
         column(&mut self.state, keep);
         column(&mut self.wall, keep);
         column(&mut self.release_time, keep);
         column(&mut self.release_vel, keep);
         column(&mut self.born, keep);
+        self.omega.retain(keep);
         self.memory.retain(keep);
         self.tet.retain(keep);
     }
@@ -266,8 +271,8 @@ impl Particles {
         std::mem::swap(&mut self.pos, &mut next.pos);
         std::mem::swap(&mut self.vel, &mut next.vel);
         // Only a scene with rotation sized (and wrote) the step's spins.
-        if next.omega.len() == self.omega.len() {
-            std::mem::swap(&mut self.omega, &mut next.omega);
+        if self.omega.is_on() {
+            self.omega.swap_values(&mut next.omega);
         }
         std::mem::swap(&mut self.state, &mut next.state);
         std::mem::swap(&mut self.wall, &mut next.wall);

@@ -222,6 +222,11 @@ impl Simulation {
             // (docs/physics.md §10): a scene that is only checked never holds it.
             particles.memory = Column::new(kernel.modes(), glam::DVec3::ZERO, particles.len());
         }
+        if setup.physics.rotation && !particles.omega.is_on() {
+            // Particles made without the scene loader (which turns the spin on with rotation):
+            // at rest.
+            particles.omega = Column::new(1, glam::DVec3::ZERO, particles.len());
+        }
         let next_id = particles.id.iter().max().map_or(0, |&i| i + 1);
         let world = World {
             particles,

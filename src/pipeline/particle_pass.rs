@@ -107,7 +107,7 @@ pub(crate) fn run<M: Motion>(
 /// pass of its own, not in the loops above: translation does not depend on spin, and a scene
 /// without rotation must keep those loops as they are.
 pub(crate) fn spin<M: Motion>(flight: &Kernel<M>, p: &Particles, h: f64, next: &mut Next) {
-    let (kind, diameter, pos, omega) = (&p.kind, &p.diameter, &p.pos, &p.omega);
+    let (kind, diameter, pos, omega) = (&p.kind, &p.diameter, &p.pos, p.omega.values());
     next.omega.par_chunks_mut(CHUNK).enumerate().for_each(|(c, out)| {
         // The decay factor of the last kind and diameter: particles come in runs of one kind
         // and size (a bed, an injector's stream), and its exponential was a third of this

@@ -187,6 +187,10 @@ pub(super) fn build(
         super::estimate::check_memory(&estimate, super::estimate::available_memory())?;
     }
     let mut particles = Particles::default();
+    if physics.rotation {
+        // The spin column, only in a scene with rotation (docs/physics.md §9).
+        particles.omega = crate::particles::Column::new(1, glam::DVec3::ZERO, 0);
+    }
     let origins = fill::add_particles(&file, &kinds, &walls, physics.rotation, &mut particles)?;
     fill::check_clear_of_walls(&origins, &particles, &walls)?;
     overlap::check_no_overlap(&origins, &particles)?;

@@ -89,7 +89,8 @@ pub(super) fn add_particles(
         let i = p.len();
         push(p, kind, d, x, v);
         if let Some(w) = s.angular_velocity {
-            p.omega[i] = angular_velocity(&k("angular_velocity"), w, d, rotation)?;
+            let w = angular_velocity(&k("angular_velocity"), w, d, rotation)?;
+            p.omega.values_mut()[i] = w;
         }
     }
     for (i, s) in file.lattice.iter().enumerate() {

@@ -161,7 +161,7 @@ angular_velocity = [0.0, {omega_y}, 0.0]
         events.append(&mut sim.record.events);
     }
     let p = &sim.world.particles;
-    let (v, w) = (p.vel[0], p.omega[0]);
+    let (v, w) = (p.vel[0], p.spin(0));
     let contact = v + w.cross(1e-3 * DVec3::NEG_Z);
     (contact.x / vn, v.z / vn, v, events[0])
 }

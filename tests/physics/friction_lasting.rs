@@ -60,7 +60,7 @@ fn down_the_slope(sim: &mut wetbounce::Simulation, theta: f64, t: f64) -> (f64, 
     assert_eq!(p.state[0], State::Resting, "left the incline");
     let n = DVec3::new(theta.sin(), 0.0, theta.cos());
     let down = DVec3::new(theta.cos(), 0.0, -theta.sin());
-    let slip = p.vel[0] + p.omega[0].cross(-1e-3 * n);
+    let slip = p.vel[0] + p.spin(0).cross(-1e-3 * n);
     (p.vel[0].dot(down), slip.length())
 }
 
@@ -120,7 +120,7 @@ velocity = [0.0, 0.0, 0.0]
 "#
     );
     let mut sim = common::scene(&text).simulation();
-    sim.world.particles.omega[0] = DVec3::from_array(omega0);
+    sim.world.particles.omega.values_mut()[0] = DVec3::from_array(omega0);
     sim
 }
 
@@ -131,7 +131,7 @@ fn spinning_sphere_in_still_fluid_loses_its_spin_at_the_stokes_rate() {
     let rate = 15.0 * 1e-3 / (2500.0 * 1e-6);
     for t in [0.05, 0.2, 0.5] {
         sim.advance_to(t);
-        let w = sim.world.particles.omega[0];
+        let w = sim.world.particles.spin(0);
         let expected = DVec3::new(0.0, 300.0, 100.0) * (-rate * t).exp();
         assert!((w - expected).length() < 1e-12 * 300.0, "t = {t}: ω = {w}, expected {expected}");
     }
@@ -143,7 +143,7 @@ fn sphere_in_a_pipe_flow_takes_half_the_vorticity_as_its_spin() {
     let flow = r#"{ type = "poiseuille", point = [0.0, 0.0, 0.0], axis = [0.0, 0.0, 1.0], radius = 0.01, max_velocity = 0.1 }"#;
     let mut sim = spinning_bead([0.0; 3], flow);
     sim.advance_to(1.0);
-    let (x, w) = (sim.world.particles.pos[0], sim.world.particles.omega[0]);
+    let (x, w) = (sim.world.particles.pos[0], sim.world.particles.spin(0));
     let half_vorticity = 0.1 / 1e-4 * DVec3::Z.cross(DVec3::new(x.x, x.y, 0.0));
     // From rest, at the Stokes rate 15 μ / (ρp a²) = 6 /s: ω = Ω (1 − e^{−6 t}).
     let expected = half_vorticity * (1.0 - (-6.0f64).exp());

@@ -68,7 +68,7 @@ impl<'a, M: Motion> Ctx<'a, M> {
             end: Flight { x: next.pos[i], v: next.vel[i], state: next.state[i] },
             wall: p.wall[i],
             release: None,
-            spin: if self.flight.rotation() { p.omega[i] } else { DVec3::ZERO },
+            spin: if self.flight.rotation() { p.omega.values()[i] } else { DVec3::ZERO },
             spin_t: t0,
             spin_x: p.pos[i],
         }
