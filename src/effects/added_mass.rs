@@ -47,5 +47,6 @@ impl Effect for AddedMass {
             terms.inertia_density += self.coefficient * fluid.density;
         }
         physics.added_mass_coefficient = self.coefficient;
+        physics.added_mass = true;
     }
 }

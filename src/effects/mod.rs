@@ -120,6 +120,9 @@ pub struct Physics {
     pub drag: Option<DragLawKind>,
     /// Added-mass coefficient in the inertia (0 without the added-mass effect).
     pub added_mass_coefficient: f64,
+    /// With the added-mass effect: the fluid's inertia is in the particle's (so wall
+    /// lubrication's near-wall added mass is too, docs/physics.md §8).
+    pub added_mass: bool,
     /// With the contact-time effect: particles are held at the wall for `t_c`
     /// (docs/physics.md §5.3).
     pub hold_at_contact: bool,
@@ -152,6 +155,7 @@ impl Physics {
                 .collect(),
             drag: None,
             added_mass_coefficient: 0.0,
+            added_mass: false,
             hold_at_contact: false,
             held_kinds: Vec::new(),
             wall_lubrication: false,
@@ -165,11 +169,6 @@ impl Physics {
             physics.effect_names.push(effect.name());
         }
         physics
-    }
-
-    /// True when the scene names the effect `name`.
-    pub fn has(&self, name: &str) -> bool {
-        self.effect_names.contains(&name)
     }
 
     /// The constant part of kind `k`'s acceleration (m/s²): force density over inertia density.

@@ -87,7 +87,7 @@ impl<'a, M: Motion> Kernel<'a, M> {
             NonLinear::Lubrication(lubricated::Lubrication {
                 kind_roughness: kinds.iter().map(|k| k.roughness).collect(),
                 kind_inertia: physics.kinds.iter().map(|t| t.inertia_density).collect(),
-                added_density: if physics.has("added_mass") { fluid.density } else { 0.0 },
+                added_density: if physics.added_mass { fluid.density } else { 0.0 },
             })
         });
         Kernel {
