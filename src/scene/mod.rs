@@ -9,6 +9,7 @@ mod error;
 pub mod estimate;
 mod field;
 mod fill;
+mod flow;
 mod flux;
 mod overlap;
 mod ranges;
@@ -17,6 +18,7 @@ mod room;
 pub mod run_length;
 mod schema;
 pub mod stiffness;
+mod table;
 mod walls;
 
 pub use accuracy::{Accuracy, AutoStep};
