@@ -19,6 +19,8 @@ pub mod run_length;
 mod schema;
 pub mod stiffness;
 mod table;
+#[cfg(test)]
+mod typed_tables_tests;
 mod walls;
 
 pub use accuracy::{Accuracy, AutoStep};
