@@ -108,7 +108,8 @@ where
 /// column, as the file's own errors are; a missing key at its own path (serde reports it as an
 /// error of the table), saying which type needs it.
 pub(super) fn read_as<T: DeserializeOwned>(rest: &Rest, at: &Place) -> Result<T, Invalid> {
-    let table: toml::Table = rest.0.iter().map(|(k, v)| (k.clone(), v.get_ref().clone())).collect();
+    let table: toml::Table =
+        rest.0.iter().map(|(k, v)| (k.clone(), dates_as_in_the_file(v.get_ref()))).collect();
     serde_path_to_error::deserialize(Value::Table(table)).map_err(|e| {
         let message = e.inner().message().trim_end().to_string();
         if let Some(field) = message.strip_prefix("missing field `").and_then(|m| m.strip_suffix('`')) {
@@ -129,6 +130,25 @@ pub(super) fn read_as<T: DeserializeOwned>(rest: &Rest, at: &Place) -> Result<T,
         let key = if path == "." { at.key.clone() } else { at.k(&path) };
         Invalid::new(key, format!("{message}{place}"))
     })
+}
+
+/// `value` with each date as the file's reader shows it to serde: a table of one private key
+/// (toml's own `$__toml_private_datetime`). A `toml::Value` shows a date as a string instead,
+/// which would make `[0.0, 0.0, 1979-05-27]` "component 2 is a string", `file = 1979-05-27` a
+/// file name, and the messages differ from the file's other tables.
+fn dates_as_in_the_file(value: &Value) -> Value {
+    match value {
+        Value::Datetime(d) => {
+            let mut date = toml::Table::new();
+            date.insert("$__toml_private_datetime".into(), Value::String(d.to_string()));
+            Value::Table(date)
+        }
+        Value::Array(items) => Value::Array(items.iter().map(dates_as_in_the_file).collect()),
+        Value::Table(t) => {
+            Value::Table(t.iter().map(|(k, v)| (k.clone(), dates_as_in_the_file(v))).collect())
+        }
+        other => other.clone(),
+    }
 }
 
 /// A key path as `serde_path_to_error` writes it (`walls[2].normal`, `.` for the root), less

@@ -144,6 +144,21 @@ fn a_value_that_toml_cannot_read_is_reported_at_its_key() {
     );
 }
 
+/// A date is shown as in the file's other tables: not taken for a string.
+#[test]
+fn a_date_in_a_wall_or_flow_is_not_taken_for_a_string() {
+    refused(
+        wall("type = \"plane\"\npoint = [0.0, 0.0, 1979-05-27]\nnormal = [0.0, 0.0, 1.0]"),
+        "walls[0].point",
+        &["component 2 is a table or a date"],
+    );
+    refused(
+        wall("type = \"mesh\"\nfile = 1979-05-27"),
+        "walls[0].file",
+        &["invalid type: map, expected a string"],
+    );
+}
+
 #[test]
 fn each_flow_reads_its_own_keys() {
     for table in [
