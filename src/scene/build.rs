@@ -1,21 +1,21 @@
 //! From the parsed file to a validated [`Scene`].
 
 use super::accuracy::auto_step;
-use super::error::check::{self, forbid, only, required};
+use super::error::check::{self, forbid, required};
 use super::error::fmt::{num, shorten_long_numbers};
 use super::error::{Invalid, SceneError};
 use super::ranges::{
-    self, DENSITY, FLUID_DENSITY, GRAVITY, LENGTH, ROUGHNESS, SPEED, SURFACE_TENSION, TIME, VISCOSITY,
-    YOUNGS_MODULUS,
+    self, DENSITY, FLUID_DENSITY, GRAVITY, ROUGHNESS, SURFACE_TENSION, TIME, VISCOSITY, YOUNGS_MODULUS,
 };
 use super::run_length::{TooLong, run_length};
 use super::schema::*;
 use super::stiffness::{flow_rate, stiffest_drag};
+use super::table::{key_path, line_and_column};
 use super::{LoadOptions, Scene};
-use super::{fill, flux, overlap, walls};
+use super::{fill, flow, flux, overlap, walls};
 use crate::contact::BounceRule;
 use crate::effects::{MemoryKernel, Physics, SHORTEST_LAG, build_effect};
-use crate::fluid::{Flow, Fluid, Poiseuille};
+use crate::fluid::Fluid;
 use crate::integrate::IntegratorKind;
 use crate::particles::{FrictionMaterial, Material, ParticleKind, Particles};
 use crate::pipeline::Setup;
@@ -29,10 +29,8 @@ const EQ4_POLE: f64 = 0.196_874_404_3;
 pub(super) fn parse(source: &str, path: &Path) -> Result<SceneFile, SceneError> {
     let located = |key: String, e: &toml::de::Error| {
         let at = e.span().map(|s| {
-            let start = s.start.min(source.len());
-            let before = &source[..start];
-            let col = before.len() - before.rfind('\n').map_or(0, |i| i + 1) + 1;
-            format!(" (line {}, column {col})", line_of(source, start))
+            let (line, column) = line_and_column(source, s.start);
+            format!(" (line {line}, column {column})")
         });
         SceneError::Parse {
             file: path.to_path_buf(),
@@ -42,7 +40,7 @@ pub(super) fn parse(source: &str, path: &Path) -> Result<SceneFile, SceneError> 
     };
     let de = toml::de::Deserializer::parse(source).map_err(|e| located("(top level)".into(), &e))?;
     serde_path_to_error::deserialize(de).map_err(|e| {
-        let key = e.path().to_string();
+        let key = key_path(e.path());
         // An empty key (`"" = 1`) has an empty path segment: name it `""`, never nothing.
         let key = match key.as_str() {
             "." => "(top level)".to_string(),
@@ -56,7 +54,7 @@ pub(super) fn parse(source: &str, path: &Path) -> Result<SceneFile, SceneError> 
 
 /// 1-based line of byte offset `at` in `source`.
 fn line_of(source: &str, at: usize) -> usize {
-    source[..at.min(source.len())].matches('\n').count() + 1
+    line_and_column(source, at).0
 }
 
 pub(super) fn build(
@@ -98,9 +96,9 @@ pub(super) fn build(
     let duration = check::positive_in("simulation.duration", sim.duration, &TIME)?;
     let output_interval = check::positive_in("simulation.output_interval", sim.output_interval, &TIME)?;
 
-    let fluid = build_fluid(&file.fluid, base)?;
+    let fluid = build_fluid(&file.fluid, base, source)?;
     let mut kinds = build_kinds(&file.kinds)?;
-    let walls = walls::build_walls(&file.walls, base)?;
+    let walls = walls::build_walls(&file.walls, base, source)?;
 
     let mut effects = Vec::new();
     for (name, table) in &file.effects {
@@ -276,64 +274,12 @@ fn check_history_window(kernel: &MemoryKernel, dt: f64) -> Result<(), Invalid> {
     Ok(())
 }
 
-fn build_fluid(f: &FluidSpec, base: &Path) -> Result<Fluid, Invalid> {
+fn build_fluid(f: &FluidSpec, base: &Path, source: &str) -> Result<Fluid, Invalid> {
     Ok(Fluid {
         density: check::non_negative_in("fluid.density", f.density, &FLUID_DENSITY)?,
         viscosity: check::non_negative_in("fluid.viscosity", f.viscosity, &VISCOSITY)?,
         gravity: check::magnitude_in("fluid.gravity", f.gravity, &GRAVITY)?,
-        flow: build_flow(&f.flow, base)?,
-    })
-}
-
-fn build_flow(f: &FlowSpec, base: &Path) -> Result<Flow, Invalid> {
-    let k = |field: &str| format!("fluid.flow.{field}");
-    let (allowed, what): (&[&str], &str) = match f.flow {
-        FlowType::Quiescent => (&[], "a quiescent flow"),
-        FlowType::Uniform => (&["velocity"], "a uniform flow"),
-        FlowType::Poiseuille => {
-            (&["point", "axis", "radius", "mean_velocity", "max_velocity"], "a poiseuille flow")
-        }
-        FlowType::Field => return super::field::build_field(f, base),
-    };
-    let present = [
-        ("velocity", f.velocity.is_some()),
-        ("point", f.point.is_some()),
-        ("axis", f.axis.is_some()),
-        ("radius", f.radius.is_some()),
-        ("mean_velocity", f.mean_velocity.is_some()),
-        ("max_velocity", f.max_velocity.is_some()),
-    ];
-    only("fluid.flow", &present, allowed, what)?;
-    super::field::forbid_field_keys(f, what)?;
-    Ok(match f.flow {
-        FlowType::Field => return super::field::build_field(f, base),
-        FlowType::Quiescent => Flow::Quiescent,
-        FlowType::Uniform => {
-            let v = required(&k("velocity"), f.velocity, what)?;
-            Flow::Uniform(check::magnitude_in(&k("velocity"), v, &SPEED)?)
-        }
-        FlowType::Poiseuille => {
-            let point = check::point(&k("point"), required(&k("point"), f.point, what)?)?;
-            let axis = check::direction(&k("axis"), f.axis.unwrap_or(Vec3Spec([0.0, 0.0, 1.0])))?;
-            let radius = check::positive_in(&k("radius"), required(&k("radius"), f.radius, what)?, &LENGTH)?;
-            let max_velocity = match (f.mean_velocity, f.max_velocity) {
-                (Some(mean), None) => 2.0 * check::signed_in(&k("mean_velocity"), mean, &SPEED)?,
-                (None, Some(max)) => check::signed_in(&k("max_velocity"), max, &SPEED)?,
-                (Some(_), Some(_)) => {
-                    return Err(Invalid::new(
-                        k("max_velocity"),
-                        "give either mean_velocity or max_velocity, not both (max = 2 × mean)",
-                    ));
-                }
-                (None, None) => {
-                    return Err(Invalid::new(
-                        k("mean_velocity"),
-                        "missing: a poiseuille flow needs mean_velocity or max_velocity",
-                    ));
-                }
-            };
-            Flow::Poiseuille(Poiseuille { point, axis, radius, max_velocity })
-        }
+        flow: flow::build_flow(&f.flow, base, source)?,
     })
 }
 

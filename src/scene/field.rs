@@ -2,65 +2,31 @@
 //! collection) and the [`Field`] they make. Errors name the key and, for a file, the file.
 
 use super::error::Invalid;
-use super::error::check::{self, only};
+use super::error::check;
 use super::error::fmt::num;
 use super::ranges::{SPEED, TIME};
-use super::schema::{DataSpec, FlowSpec, OutsideSpec, Vec3Spec};
+use super::schema::{DataSpec, FieldSpec, OutsideSpec, Vec3Spec};
+use super::table::{Place, Table};
 use crate::fluid::field::read::{self, Loaded, Request};
 use crate::fluid::field::{Axisymmetric, DataAt, Field, FieldInfo, Grid, Outside, Snapshot};
 use crate::fluid::{Flow, SharedField};
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
-/// The keys of a field flow.
-const KEYS: [&str; 10] =
-    ["file", "files", "times", "array", "data", "outside", "axisymmetric", "point", "axis", "period"];
-
-/// Refuses the field's own keys in a flow of another type (`what`).
-pub(super) fn forbid_field_keys(f: &FlowSpec, what: &str) -> Result<(), Invalid> {
-    let present = field_keys_present(f);
-    for (key, there) in present {
-        if there && !matches!(key, "point" | "axis") {
-            return Err(Invalid::new(
-                format!("fluid.flow.{key}"),
-                format!("not a key of {what} (it belongs to type = \"field\")"),
-            ));
-        }
+impl Table<Flow> for FieldSpec {
+    const WHAT: &'static str = "a field flow";
+    fn build(self, at: &Place, base: &Path) -> Result<Flow, Invalid> {
+        build_field(&self, at, base)
     }
-    Ok(())
-}
-
-fn field_keys_present(f: &FlowSpec) -> [(&'static str, bool); 10] {
-    [
-        ("file", f.file.is_some()),
-        ("files", f.files.is_some()),
-        ("times", f.times.is_some()),
-        ("array", f.array.is_some()),
-        ("data", f.data.is_some()),
-        ("outside", f.outside.is_some()),
-        ("axisymmetric", f.axisymmetric.is_some()),
-        ("point", f.point.is_some()),
-        ("axis", f.axis.is_some()),
-        ("period", f.period.is_some()),
-    ]
 }
 
 /// Builds a field flow; files are read relative to `base`.
-pub(super) fn build_field(f: &FlowSpec, base: &Path) -> Result<Flow, Invalid> {
-    let k = |field: &str| format!("fluid.flow.{field}");
-    let what = "a field flow";
-    let mut present: Vec<(&str, bool)> = field_keys_present(f).to_vec();
-    present.extend([
-        ("velocity", f.velocity.is_some()),
-        ("radius", f.radius.is_some()),
-        ("mean_velocity", f.mean_velocity.is_some()),
-        ("max_velocity", f.max_velocity.is_some()),
-    ]);
-    only("fluid.flow", &present, &KEYS, what)?;
+fn build_field(f: &FieldSpec, at: &Place, base: &Path) -> Result<Flow, Invalid> {
+    let k = |field: &str| at.k(field);
     let axisymmetric = f.axisymmetric.unwrap_or(false);
     if !axisymmetric {
-        for key in ["point", "axis"] {
-            if present.iter().any(|&(n, there)| n == key && there) {
+        for (key, there) in [("point", f.point.is_some()), ("axis", f.axis.is_some())] {
+            if there {
                 return Err(Invalid::new(k(key), "only with axisymmetric = true (the table's axis)"));
             }
         }

@@ -9,6 +9,7 @@ mod error;
 pub mod estimate;
 mod field;
 mod fill;
+mod flow;
 mod flux;
 mod overlap;
 mod ranges;
@@ -17,6 +18,9 @@ mod room;
 pub mod run_length;
 mod schema;
 pub mod stiffness;
+mod table;
+#[cfg(test)]
+mod typed_tables_tests;
 mod walls;
 
 pub use accuracy::{Accuracy, AutoStep};

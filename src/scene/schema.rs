@@ -5,6 +5,8 @@ use crate::contact::ImpactLocation;
 use crate::integrate::IntegratorKind;
 use serde::Deserialize;
 
+pub use super::table::Rest;
+
 /// A whole scene file.
 #[derive(Debug, Clone, Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -191,37 +193,15 @@ fn default_gravity() -> Vec3Spec {
     Vec3Spec([0.0, 0.0, -9.81])
 }
 
-/// `fluid.flow`: one flat table whose `type` says which other keys it needs, so that every
-/// error keeps its exact key path and line (serde's tagged enums lose both).
-#[derive(Debug, Clone, Default, Deserialize)]
-#[serde(deny_unknown_fields)]
+/// `fluid.flow`: its `type` (left out: quiescent) and the keys of that type, read into its
+/// struct below once the type is known (`scene::table`).
+#[derive(Debug, Clone, Default)]
 pub struct FlowSpec {
-    #[serde(rename = "type", default)]
     pub flow: FlowType,
-    pub velocity: Option<Vec3Spec>,
-    pub point: Option<Vec3Spec>,
-    pub axis: Option<Vec3Spec>,
-    pub radius: Option<f64>,
-    pub mean_velocity: Option<f64>,
-    pub max_velocity: Option<f64>,
-    /// `field`: one VTK file, or a `.pvd` collection of snapshots.
-    pub file: Option<String>,
-    /// `field`: snapshot files, with `times`.
-    pub files: Option<Vec<String>>,
-    /// `field`: the snapshots' times (s), increasing.
-    pub times: Option<Vec<f64>>,
-    /// `field`: the velocity array's name.
-    pub array: Option<String>,
-    /// `field`: `"point"` or `"cell"` data.
-    pub data: Option<DataSpec>,
-    /// `field`: what the flow is outside the grid.
-    pub outside: Option<OutsideSpec>,
-    /// `field`: the file is a 2-D (r, z) table turned about `axis` through `point`.
-    pub axisymmetric: Option<bool>,
-    /// `field`: a series repeats with this period (s).
-    pub period: Option<f64>,
+    pub rest: Rest,
 }
 
+/// The flow types: their names in the file. Each one's table is in `FlowType::table`.
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Deserialize)]
 #[serde(rename_all = "snake_case")]
 pub enum FlowType {
@@ -230,6 +210,56 @@ pub enum FlowType {
     Uniform,
     Poiseuille,
     Field,
+}
+
+/// `type = "quiescent"`: no keys.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct QuiescentSpec {}
+
+/// `type = "uniform"`.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct UniformSpec {
+    pub velocity: Vec3Spec,
+}
+
+/// `type = "poiseuille"`: `mean_velocity` or `max_velocity`, not both.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct PoiseuilleSpec {
+    pub point: Vec3Spec,
+    /// Left out: +z.
+    pub axis: Option<Vec3Spec>,
+    pub radius: f64,
+    pub mean_velocity: Option<f64>,
+    pub max_velocity: Option<f64>,
+}
+
+/// `type = "field"`: `file`, or `files` with `times`.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct FieldSpec {
+    /// One VTK file, or a `.pvd` collection of snapshots.
+    pub file: Option<String>,
+    /// Snapshot files, with `times`.
+    pub files: Option<Vec<String>>,
+    /// The snapshots' times (s), increasing.
+    pub times: Option<Vec<f64>>,
+    /// The velocity array's name.
+    pub array: Option<String>,
+    /// `"point"` or `"cell"` data.
+    pub data: Option<DataSpec>,
+    /// What the flow is outside the grid.
+    pub outside: Option<OutsideSpec>,
+    /// The file is a 2-D (r, z) table turned about `axis` through `point`.
+    pub axisymmetric: Option<bool>,
+    /// With `axisymmetric`: a point of the axis (left out: the origin).
+    pub point: Option<Vec3Spec>,
+    /// With `axisymmetric`: the axis (left out: +z).
+    pub axis: Option<Vec3Spec>,
+    /// A series repeats with this period (s).
+    pub period: Option<f64>,
 }
 
 /// `fluid.flow.data`.
@@ -324,34 +354,17 @@ pub struct MaterialSpec {
     pub rolling_friction: Option<f64>,
 }
 
-/// One `[[walls]]` entry; `type` says which geometry keys it needs (checked in `build`).
-#[derive(Debug, Clone, Deserialize)]
-#[serde(deny_unknown_fields)]
+/// One `[[walls]]` entry: the keys of every wall, its `type`, and the keys of that type, read
+/// into its struct below once the type is known (`scene::table`).
+#[derive(Debug, Clone)]
 pub struct WallSpec {
     pub name: String,
-    #[serde(rename = "type")]
     pub shape: WallType,
-    pub point: Option<Vec3Spec>,
-    pub normal: Option<Vec3Spec>,
-    pub min: Option<Vec3Spec>,
-    pub max: Option<Vec3Spec>,
-    pub inside: Option<bool>,
-    pub base: Option<Vec3Spec>,
-    pub axis: Option<Vec3Spec>,
-    pub radius: Option<f64>,
-    pub length: Option<f64>,
-    pub file: Option<String>,
-    pub scale: Option<f64>,
-    pub translate: Option<Vec3Spec>,
-    pub center: Option<Vec3Spec>,
-    pub inner_radius: Option<f64>,
-    pub outer_radius: Option<f64>,
-    pub segments: Option<u32>,
-    pub cone_height: Option<f64>,
-    #[serde(default)]
     pub material: MaterialSpec,
+    pub rest: Rest,
 }
 
+/// The wall shapes: their names in the file. Each one's table is in `WallType::table`.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize)]
 #[serde(rename_all = "snake_case")]
 pub enum WallType {
@@ -362,29 +375,60 @@ pub enum WallType {
     Annulus,
 }
 
-impl WallSpec {
-    /// Each geometry key, and whether this entry has it.
-    pub fn present(&self) -> [(&'static str, bool); 17] {
-        [
-            ("point", self.point.is_some()),
-            ("normal", self.normal.is_some()),
-            ("min", self.min.is_some()),
-            ("max", self.max.is_some()),
-            ("inside", self.inside.is_some()),
-            ("base", self.base.is_some()),
-            ("axis", self.axis.is_some()),
-            ("radius", self.radius.is_some()),
-            ("length", self.length.is_some()),
-            ("file", self.file.is_some()),
-            ("scale", self.scale.is_some()),
-            ("translate", self.translate.is_some()),
-            ("center", self.center.is_some()),
-            ("inner_radius", self.inner_radius.is_some()),
-            ("outer_radius", self.outer_radius.is_some()),
-            ("segments", self.segments.is_some()),
-            ("cone_height", self.cone_height.is_some()),
-        ]
-    }
+/// `type = "plane"`.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct PlaneSpec {
+    pub point: Vec3Spec,
+    pub normal: Vec3Spec,
+}
+
+/// `type = "box"`.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct BoxSpec {
+    pub min: Vec3Spec,
+    pub max: Vec3Spec,
+    /// Required; an `Option` so that the message of its absence can say what each value means.
+    pub inside: Option<bool>,
+}
+
+/// `type = "cylinder"`.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct CylinderSpec {
+    pub base: Vec3Spec,
+    /// Left out: +z.
+    pub axis: Option<Vec3Spec>,
+    pub radius: f64,
+    /// Left out: infinite both ways.
+    pub length: Option<f64>,
+}
+
+/// `type = "mesh"`.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct MeshSpec {
+    pub file: String,
+    /// Left out: 1.
+    pub scale: Option<f64>,
+    /// Left out: none.
+    pub translate: Option<Vec3Spec>,
+}
+
+/// `type = "annulus"`.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct AnnulusSpec {
+    pub center: Vec3Spec,
+    pub normal: Vec3Spec,
+    /// Left out: 0 (a disk).
+    pub inner_radius: Option<f64>,
+    pub outer_radius: f64,
+    /// Left out: 0 (flat).
+    pub cone_height: Option<f64>,
+    /// Left out: 128.
+    pub segments: Option<u32>,
 }
 
 #[derive(Debug, Clone, Deserialize)]
@@ -501,4 +545,67 @@ pub struct OutletSpec {
 pub enum OutletType {
     Plane,
     Wall,
+}
+
+/// Reads a `[[walls]]` entry: `name`, `type` and `material` where they stand in the file (so
+/// that their errors keep their key path and line); the other keys kept for the type.
+impl<'de> Deserialize<'de> for WallSpec {
+    fn deserialize<D: serde::Deserializer<'de>>(de: D) -> Result<Self, D::Error> {
+        struct V;
+        impl<'de> serde::de::Visitor<'de> for V {
+            type Value = WallSpec;
+            fn expecting(&self, f: &mut std::fmt::Formatter) -> std::fmt::Result {
+                f.write_str("a wall table")
+            }
+            fn visit_map<A: serde::de::MapAccess<'de>>(self, mut map: A) -> Result<WallSpec, A::Error> {
+                let (mut name, mut shape, mut material) = (None, None, None);
+                let mut rest = Rest::default();
+                while let Some(key) = map.next_key::<String>()? {
+                    match key.as_str() {
+                        "name" => name = Some(map.next_value()?),
+                        "type" => shape = Some(map.next_value()?),
+                        "material" => material = Some(map.next_value()?),
+                        _ => {
+                            let value = map.next_value()?;
+                            rest.0.push((key, value));
+                        }
+                    }
+                }
+                use serde::de::Error;
+                Ok(WallSpec {
+                    name: name.ok_or_else(|| A::Error::missing_field("name"))?,
+                    shape: shape.ok_or_else(|| A::Error::missing_field("type"))?,
+                    material: material.unwrap_or_default(),
+                    rest,
+                })
+            }
+        }
+        de.deserialize_map(V)
+    }
+}
+
+/// Reads `fluid.flow`: `type` where it stands in the file; the other keys kept for the type.
+impl<'de> Deserialize<'de> for FlowSpec {
+    fn deserialize<D: serde::Deserializer<'de>>(de: D) -> Result<Self, D::Error> {
+        struct V;
+        impl<'de> serde::de::Visitor<'de> for V {
+            type Value = FlowSpec;
+            fn expecting(&self, f: &mut std::fmt::Formatter) -> std::fmt::Result {
+                f.write_str("a flow table")
+            }
+            fn visit_map<A: serde::de::MapAccess<'de>>(self, mut map: A) -> Result<FlowSpec, A::Error> {
+                let mut spec = FlowSpec::default();
+                while let Some(key) = map.next_key::<String>()? {
+                    if key == "type" {
+                        spec.flow = map.next_value()?;
+                    } else {
+                        let value = map.next_value()?;
+                        spec.rest.0.push((key, value));
+                    }
+                }
+                Ok(spec)
+            }
+        }
+        de.deserialize_map(V)
+    }
 }
