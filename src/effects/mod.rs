@@ -6,7 +6,8 @@
 //! linearised force ([`crate::integrate::Linear`]) per particle, compiled for the drag law and
 //! flow the scene has, so an effect the scene does not name costs nothing.
 //!
-//! The registry is [`build_effect`]: a plain `match` on the name.
+//! The registry is one table of names and builders (`REGISTRY`, read by [`build_effect`]): a
+//! new effect is its file and one line there.
 
 mod added_mass;
 mod buoyancy;
@@ -32,18 +33,27 @@ use crate::fluid::Fluid;
 use crate::particles::ParticleKind;
 use glam::DVec3;
 
-/// Names accepted in a scene's `[effects]` table, in the order the docs list them.
-pub const EFFECT_NAMES: &[&str] = &[
-    "gravity",
-    "buoyancy",
-    "drag",
-    "added_mass",
-    "contact_time",
-    "wall_lubrication",
-    "history",
-    "rotation",
-    "fluid_acceleration",
+/// How an effect is built from its own table of the scene file.
+type Build = fn(toml::Value) -> Result<Box<dyn Effect>, EffectError>;
+
+/// The effect registry: each name a scene's `[effects]` table accepts, listed once, in the
+/// order the docs list them, with how its effect is built.
+const REGISTRY: &[(&str, Build)] = &[
+    ("gravity", |t| Ok(Box::new(parse::<Gravity>(t)?))),
+    ("buoyancy", |t| Ok(Box::new(parse::<Buoyancy>(t)?))),
+    ("drag", |t| Ok(Box::new(parse::<Drag>(t)?))),
+    ("added_mass", |t| Ok(Box::new(parse::<AddedMass>(t)?.validated()?))),
+    ("contact_time", |t| Ok(Box::new(parse::<ContactTime>(t)?))),
+    ("wall_lubrication", |t| Ok(Box::new(parse::<WallLubrication>(t)?))),
+    ("history", |t| Ok(Box::new(parse::<History>(t)?.validated()?))),
+    ("rotation", |t| Ok(Box::new(parse::<Rotation>(t)?))),
+    ("fluid_acceleration", |t| Ok(Box::new(parse::<FluidAcceleration>(t)?))),
 ];
+
+/// The names a scene's `[effects]` table accepts, in the order the docs list them.
+pub fn effect_names() -> impl Iterator<Item = &'static str> {
+    REGISTRY.iter().map(|&(name, _)| name)
+}
 
 /// One physical effect: adds its part to the scene's [`Physics`].
 pub trait Effect: std::fmt::Debug + Send + Sync {
@@ -74,30 +84,24 @@ impl EffectError {
     }
 }
 
-/// The effect registry: builds the effect `name` from its own table of the scene file.
+/// Builds the effect `name` from its own table of the scene file ([`REGISTRY`]); an unknown
+/// name is an error that lists the valid ones.
 pub fn build_effect(name: &str, table: toml::Value) -> Result<Box<dyn Effect>, EffectError> {
-    fn parse<T: serde::de::DeserializeOwned>(table: toml::Value) -> Result<T, EffectError> {
-        serde_path_to_error::deserialize(table).map_err(|e| {
-            let key = e.path().to_string();
-            EffectError::new(if key == "." { String::new() } else { key }, e.inner().message())
-        })
-    }
-    Ok(match name {
-        "gravity" => Box::new(parse::<Gravity>(table)?),
-        "buoyancy" => Box::new(parse::<Buoyancy>(table)?),
-        "drag" => Box::new(parse::<Drag>(table)?),
-        "added_mass" => Box::new(parse::<AddedMass>(table)?.validated()?),
-        "contact_time" => Box::new(parse::<ContactTime>(table)?),
-        "wall_lubrication" => Box::new(parse::<WallLubrication>(table)?),
-        "history" => Box::new(parse::<History>(table)?.validated()?),
-        "rotation" => Box::new(parse::<Rotation>(table)?),
-        "fluid_acceleration" => Box::new(parse::<FluidAcceleration>(table)?),
-        other => {
-            return Err(EffectError::new(
-                "",
-                format!("unknown effect \"{other}\"; valid effects are: {}", EFFECT_NAMES.join(", ")),
-            ));
-        }
+    let Some(&(_, build)) = REGISTRY.iter().find(|&&(n, _)| n == name) else {
+        let names: Vec<&str> = effect_names().collect();
+        return Err(EffectError::new(
+            "",
+            format!("unknown effect \"{name}\"; valid effects are: {}", names.join(", ")),
+        ));
+    };
+    build(table)
+}
+
+/// An effect's table, deserialised with the path of a bad key.
+fn parse<T: serde::de::DeserializeOwned>(table: toml::Value) -> Result<T, EffectError> {
+    serde_path_to_error::deserialize(table).map_err(|e| {
+        let key = e.path().to_string();
+        EffectError::new(if key == "." { String::new() } else { key }, e.inner().message())
     })
 }
 
