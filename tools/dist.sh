@@ -1,0 +1,29 @@
+#!/usr/bin/env bash
+# Builds what a user installs without a Rust toolchain (issue 30, item 1), into DIR (default
+# dist/):
+#
+# - wetbounce-VERSION-TARGET.tar.gz: the stripped command-line program with the shipped scenes,
+#   the docs, the README, the licences, the citation and the changelog;
+# - wetbounce-VERSION-cp311-abi3-PLATFORM.whl: the Python module, one wheel for every CPython
+#   >= 3.11 (abi3), built by maturin (`pip install maturin`) and stripped.
+#
+#     bash tools/dist.sh [DIR]
+#
+# Both come from the release profile. Install the wheel with `pip install DIR/wetbounce-*.whl`;
+# unpack the archive anywhere and run `./wetbounce run scenes/toluene_drop.toml`.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+out=$(mkdir -p "${1:-dist}" && cd "${1:-dist}" && pwd)
+version=$(sed -n 's/^version = "\(.*\)"/\1/p' Cargo.toml | head -1)
+target=$(rustc -vV | sed -n 's/^host: //p')
+name="wetbounce-$version-$target"
+cargo build --release --quiet --bin wetbounce
+stage=$(mktemp -d "${TMPDIR:-/tmp}/wetbounce-dist-XXXXXX")
+trap 'rm -rf "$stage"' EXIT
+mkdir "$stage/$name"
+cp "${CARGO_TARGET_DIR:-target}/release/wetbounce" "$stage/$name/"
+strip "$stage/$name/wetbounce"
+cp -r scenes docs README.md LICENSE-MIT LICENSE-APACHE CITATION.cff CHANGELOG.md "$stage/$name/"
+tar -czf "$out/$name.tar.gz" -C "$stage" "$name"
+(cd python && maturin build --release --strip --quiet --out "$out")
+ls -l "$out"
