@@ -51,11 +51,6 @@ impl<T: Copy> Column<T> {
         &mut self.values
     }
 
-    /// Particle `i`'s values.
-    pub fn of(&self, i: usize) -> &[T] {
-        &self.values[i * self.width..(i + 1) * self.width]
-    }
-
     /// A new particle's values, `fresh`.
     pub fn push(&mut self) {
         self.values.resize(self.values.len() + self.width, self.fresh);
@@ -100,7 +95,6 @@ mod tests {
         assert_eq!(c.values(), &[1, 1, 2, 2, 3, 3, 0, 0]);
         c.retain(&[true, false, true, true]);
         assert_eq!(c.values(), &[1, 1, 3, 3, 0, 0]);
-        assert_eq!(c.of(1), &[3, 3]);
         let mut off = Column::off(0u32);
         off.push();
         off.retain(&[true]);
