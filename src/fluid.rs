@@ -161,6 +161,14 @@ impl Flow {
         }
     }
 
+    /// The field of a field flow, as its shared handle (cloning it clones the handle).
+    pub fn shared_field(&self) -> Option<&SharedField> {
+        match self {
+            Flow::Field(f) => Some(f),
+            _ => None,
+        }
+    }
+
     /// Half the fluid's vorticity `½ ∇×u` at `x` (rad/s) **[ext]**: the spin a torque-free
     /// sphere takes in the flow (docs/physics.md §9). Zero in a quiescent or uniform flow; in the
     /// pipe, with `u = u_max (1 − ρ²/R²) e` and `ρ` the distance from the axis,

@@ -5,8 +5,11 @@
 use super::{Effect, EffectError, Physics};
 use crate::correlations::ExponentialSum;
 use crate::fluid::Fluid;
-use crate::particles::ParticleKind;
+use crate::particles::{Column, Feature, ParticleKind, Particles, feature::reset_at_walls};
+use glam::DVec3;
 use serde::Deserialize;
+use std::collections::TryReserveError;
+use std::sync::Arc;
 
 /// The shortest lag the exponential sum resolves, as a fraction of the window: lags below it
 /// are lumped into one instantaneous term ([`MemoryKernel::short_weight`]). Ten decades below
@@ -66,7 +69,41 @@ impl Effect for History {
     }
 
     fn apply(&self, _fluid: &Fluid, _kinds: &[ParticleKind], physics: &mut Physics) {
-        physics.history = Some(MemoryKernel::new(self.window, self.tolerance));
+        let kernel = MemoryKernel::new(self.window, self.tolerance);
+        physics.features.add(Arc::new(Memory { modes: kernel.modes() }));
+        physics.history = Some(kernel);
+    }
+}
+
+/// The memory of the history force as a feature: a typed column of the store
+/// ([`Particles::memory`], `modes` vectors per particle) that the flight kernel reads in the
+/// hot loop and writes the end of in `Next::memory` (the particle pass, and stage 4 for the
+/// paths a contact restarted); the store commits it.
+#[derive(Debug, Clone)]
+struct Memory {
+    modes: usize,
+}
+
+impl Feature for Memory {
+    fn name(&self) -> &'static str {
+        "history"
+    }
+
+    /// One memory per particle, allocated only when a run starts: a scene that is only
+    /// checked never holds it. A new particle remembers nothing, as if it had moved at its
+    /// velocity forever.
+    fn start(&self, p: &mut Particles) -> Result<(), TryReserveError> {
+        if !p.memory.is_on() {
+            p.memory = Column::try_new(self.modes, DVec3::ZERO, p.len())?;
+        }
+        Ok(())
+    }
+
+    /// A particle held at a wall or resting on one remembers nothing: its flight after the
+    /// release starts a new memory (docs/physics.md §10, "impact, hold and release").
+    fn commit(&self, p: &mut Particles) {
+        let modes = p.memory.width();
+        reset_at_walls(&p.state, p.memory.values_mut(), modes, DVec3::ZERO);
     }
 }
 

@@ -11,6 +11,7 @@
 
 mod added_mass;
 mod buoyancy;
+mod cell_hints;
 mod contact_time;
 mod drag;
 mod fluid_acceleration;
@@ -21,6 +22,7 @@ mod wall_lubrication;
 
 pub use added_mass::AddedMass;
 pub use buoyancy::Buoyancy;
+pub use cell_hints::CellHints;
 pub use contact_time::ContactTime;
 pub use drag::{Drag, DragLaw, DragLawKind, NoDrag, SchillerNaumann, Stokes};
 pub use fluid_acceleration::{FluidAcceleration, fluid_acceleration_gain};
@@ -30,8 +32,9 @@ pub use rotation::Rotation;
 pub use wall_lubrication::{RANGE as LUBRICATION_RANGE, WallExcess, WallLubrication, taper, wall_excess};
 
 use crate::fluid::Fluid;
-use crate::particles::ParticleKind;
+use crate::particles::{Features, ParticleKind};
 use glam::DVec3;
+use std::sync::Arc;
 
 /// How an effect is built from its own table of the scene file.
 type Build = fn(toml::Value) -> Result<Box<dyn Effect>, EffectError>;
@@ -145,6 +148,10 @@ pub struct Physics {
     /// non-uniform or unsteady flow (docs/physics.md §7.1), evaluated with the drag in a field flow
     /// (zero, and not evaluated, in the analytic flows).
     pub fluid_acceleration: bool,
+    /// The stateful features (docs/architecture.md, "Features that own their state"): the
+    /// effects that keep per-particle state register here in `apply` (rotation, history), and
+    /// [`Physics::build`] registers a field's cell hints.
+    pub features: Features,
     /// Names of the effects, in the order they were applied.
     pub effect_names: Vec<&'static str>,
 }
@@ -166,11 +173,17 @@ impl Physics {
             history: None,
             rotation: false,
             fluid_acceleration: false,
+            features: Features::default(),
             effect_names: Vec::new(),
         };
         for effect in effects {
             effect.apply(fluid, kinds, &mut physics);
             physics.effect_names.push(effect.name());
+        }
+        if let Some(field) = fluid.flow.shared_field()
+            && field.0.walks()
+        {
+            physics.features.add(Arc::new(CellHints::new(field.clone())));
         }
         physics
     }

@@ -120,7 +120,7 @@ pub struct Field {
 
 /// A point outside the field where the policy is [`Outside::Error`]: the first particle found
 /// there (in index order) at the end of a step.
-#[derive(Debug, Clone, Copy, PartialEq, thiserror::Error)]
+#[derive(Debug, Clone, Copy, PartialEq, thiserror::Error, serde::Serialize, serde::Deserialize)]
 #[error(
     "particle {id} left the flow field at t = {time} s: position ({}, {}, {}) m is outside the field \
      (fluid.flow.outside = \"error\"; \"nearest\" or \"zero\" let it go on)",

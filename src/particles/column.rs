@@ -1,12 +1,19 @@
 //! The optional per-particle columns of stateful features (the history memory, a field's cell
 //! hints): each is a [`Column`], registered once in [`super::Particles`], whose `push` and
 //! `retain` carry it with the particles — no feature sizes or renumbers its column by hand.
+//!
+//! Its values are shared, not owned (`Arc`): the flight kernel holds a share of the columns it
+//! reads for a whole step ([`Column::share`]) while stage 1 writes the rest of the store, and
+//! once the kernel is gone the column is the values' one owner again, so writing it copies
+//! nothing (a column still shared when written is copied first: never wrong, only slower).
+
+use std::sync::Arc;
 
 /// An optional per-particle column: `width` values per particle (the history's modes, one cell
 /// hint), none at all while its feature is off (width 0), a new particle's values `fresh`.
-#[derive(Debug, Clone, Default, PartialEq)]
+#[derive(Debug, Clone, Default, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct Column<T> {
-    values: Vec<T>,
+    values: Arc<Vec<T>>,
     width: usize,
     fresh: T,
 }
@@ -14,12 +21,12 @@ pub struct Column<T> {
 impl<T: Copy> Column<T> {
     /// A column of `width` values for each of `n` particles, all `fresh`.
     pub fn new(width: usize, fresh: T, n: usize) -> Self {
-        Column { values: vec![fresh; width * n], width, fresh }
+        Column { values: Arc::new(vec![fresh; width * n]), width, fresh }
     }
 
     /// The column of a feature that is off: no values, and none pushed.
     pub fn off(fresh: T) -> Self {
-        Column { values: Vec::new(), width: 0, fresh }
+        Column { values: Arc::default(), width: 0, fresh }
     }
 
     /// The same, with its values reserved for `n` particles first: a machine that cannot give
@@ -28,7 +35,7 @@ impl<T: Copy> Column<T> {
         let mut values = Vec::new();
         values.try_reserve_exact(width * n)?;
         values.resize(width * n, fresh);
-        Ok(Column { values, width, fresh })
+        Ok(Column { values: Arc::new(values), width, fresh })
     }
 
     /// Values per particle; 0 while its feature is off.
@@ -48,12 +55,21 @@ impl<T: Copy> Column<T> {
 
     /// The values, to write.
     pub fn values_mut(&mut self) -> &mut [T] {
-        &mut self.values
+        Arc::make_mut(&mut self.values).as_mut_slice()
+    }
+
+    /// A share of the values, read-only, for as long as a step's kernel reads them while the
+    /// rest of the store is written (the column keeps them too).
+    pub fn share(&self) -> Arc<Vec<T>> {
+        Arc::clone(&self.values)
     }
 
     /// A new particle's values, `fresh`.
     pub fn push(&mut self) {
-        self.values.resize(self.values.len() + self.width, self.fresh);
+        if self.width > 0 {
+            let values = Arc::make_mut(&mut self.values);
+            values.resize(values.len() + self.width, self.fresh);
+        }
     }
 
     /// Keeps the values of the particles with `keep[i]`, in their order.
@@ -63,23 +79,16 @@ impl<T: Copy> Column<T> {
         }
         let width = self.width;
         let mut k = 0;
-        self.values.retain(|_| {
+        Arc::make_mut(&mut self.values).retain(|_| {
             let kept = keep[k / width];
             k += 1;
             kept
         });
     }
 
-    /// Exchanges the values with `other` (the step's end-of-step copy, or a column taken out
-    /// for the step), the width kept.
+    /// Exchanges the values with `other` (the step's end-of-step copy), the width kept.
     pub fn swap_values(&mut self, other: &mut Vec<T>) {
-        std::mem::swap(&mut self.values, other);
-    }
-
-    /// Takes the values out for the step (the flight kernel reads them while the stages write
-    /// the particles), leaving none; [`Column::swap_values`] puts values back.
-    pub fn take_values(&mut self) -> Vec<T> {
-        std::mem::take(&mut self.values)
+        std::mem::swap(Arc::make_mut(&mut self.values), other);
     }
 }
 
@@ -99,5 +108,17 @@ mod tests {
         off.push();
         off.retain(&[true]);
         assert!(off.values().is_empty() && !off.is_on());
+    }
+
+    #[test]
+    fn a_share_keeps_the_values_of_the_step_while_the_column_is_written() {
+        let mut c = Column::new(1, 0u32, 2);
+        let share = c.share();
+        c.values_mut()[0] = 7;
+        assert_eq!((&share[..], c.values()), (&[0, 0][..], &[7, 0][..]));
+        drop(share);
+        let mut end = vec![5, 6];
+        c.swap_values(&mut end);
+        assert_eq!((c.values(), &end[..]), (&[5, 6][..], &[7, 0][..]));
     }
 }

@@ -1,8 +1,10 @@
 //! Particle kinds (materials) and the particle store, in columns.
 
 mod column;
+pub mod feature;
 
 pub use column::Column;
+pub use feature::{Feature, Features, Touch};
 
 use glam::DVec3;
 
@@ -67,7 +69,7 @@ impl FrictionMaterial {
 }
 
 /// Where a particle is in the bounce rule (docs/physics.md §5).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, serde::Serialize, serde::Deserialize)]
 #[repr(u8)]
 pub enum State {
     /// Moving under the force balance.
@@ -114,7 +116,7 @@ pub const NO_WALL: u32 = u32::MAX;
 /// All particles, one column per quantity, addressed by index (struct of arrays).
 ///
 /// The index of a particle can change when particles are removed; `id` is its stable name.
-#[derive(Debug, Clone, Default)]
+#[derive(Debug, Clone, Default, serde::Serialize, serde::Deserialize)]
 pub struct Particles {
     /// Stable identifier, written to outputs.
     pub id: Vec<u32>,
@@ -152,6 +154,10 @@ pub struct Particles {
     /// walk from ([`crate::fluid::field::unstructured`]); [`NO_TET`] when outside or not known
     /// yet.
     pub tet: Column<u32>,
+    /// The columns a feature made for itself ([`Particles::add_column`]), with its name: pushed,
+    /// retained and committed with the others (docs/architecture.md, "Features that own their
+    /// state").
+    pub columns: Vec<(String, Column<f64>)>,
 }
 
 /// No tetrahedron ([`Particles::tet`]): outside the grid, or not looked up yet.
@@ -190,6 +196,9 @@ impl Particles {
         self.omega.push();
         self.memory.push();
         self.tet.push();
+        for (_, c) in &mut self.columns {
+            c.push();
+        }
         self.len() - 1
     }
 
@@ -212,6 +221,35 @@ impl Particles {
         self.omega.retain(keep);
         self.memory.retain(keep);
         self.tet.retain(keep);
+        for (_, c) in &mut self.columns {
+            c.retain(keep);
+        }
+    }
+
+    /// A feature's own column `name`, `width` values per particle, a new particle's `fresh`:
+    /// made for the particles there are (all `fresh`) unless it exists. Returns its slot, the
+    /// index of [`Particles::columns`] and [`Next::columns`] it has.
+    pub fn add_column(
+        &mut self,
+        name: &str,
+        width: usize,
+        fresh: f64,
+    ) -> Result<usize, std::collections::TryReserveError> {
+        if let Some(slot) = self.column_slot(name) {
+            return Ok(slot);
+        }
+        self.columns.push((name.to_string(), Column::try_new(width, fresh, self.len())?));
+        Ok(self.columns.len() - 1)
+    }
+
+    /// The slot of the feature column `name`, if it was made.
+    pub fn column_slot(&self, name: &str) -> Option<usize> {
+        self.columns.iter().position(|(n, _)| *n == name)
+    }
+
+    /// The feature column `name`, if it was made.
+    pub fn column(&self, name: &str) -> Option<&Column<f64>> {
+        self.columns.iter().find(|(n, _)| *n == name).map(|(_, c)| c)
     }
 }
 
@@ -236,6 +274,9 @@ pub struct Next {
     /// With the history effect: each particle's memory at the end of the step (written by
     /// the particle pass and, for the particles whose path a contact restarted, by stage 4).
     pub memory: Vec<DVec3>,
+    /// The end-of-step values of the features' own columns, like [`Particles::columns`]
+    /// (stage 5½ fills them).
+    pub columns: Vec<Vec<f64>>,
 }
 
 /// A hold at a wall that began in the step: when particle `index` is released, and at what
@@ -262,11 +303,19 @@ impl Next {
         self.wall.resize(n, NO_WALL);
         self.holds.clear();
     }
+
+    /// The end-of-step values of the feature column in `slot` ([`Particles::add_column`]), to
+    /// write: `width` per particle, as the column.
+    pub fn column_mut(&mut self, slot: usize) -> &mut [f64] {
+        &mut self.columns[slot]
+    }
 }
 
 impl Particles {
     /// The step's results replace the state: the columns of `next` are swapped in (its own
-    /// become scratch for the next step) and the holds begun in the step are recorded.
+    /// become scratch for the next step), every feature's too, and the holds begun in the step
+    /// are recorded. What a feature does to its values after that is its
+    /// [`Feature::commit`].
     pub fn commit(&mut self, next: &mut Next) {
         std::mem::swap(&mut self.pos, &mut next.pos);
         std::mem::swap(&mut self.vel, &mut next.vel);
@@ -278,14 +327,9 @@ impl Particles {
         std::mem::swap(&mut self.wall, &mut next.wall);
         if self.memory.is_on() {
             self.memory.swap_values(&mut next.memory);
-            // A particle held at a wall or resting on one remembers nothing: its flight after
-            // the release starts a new memory (docs/physics.md §10, "impact, hold and release").
-            let modes = self.memory.width();
-            for (s, m) in self.state.iter().zip(self.memory.values_mut().chunks_exact_mut(modes)) {
-                if matches!(s, State::Held | State::Resting) {
-                    m.fill(DVec3::ZERO);
-                }
-            }
+        }
+        for ((_, c), values) in self.columns.iter_mut().zip(&mut next.columns) {
+            c.swap_values(values);
         }
         for h in next.holds.drain(..) {
             self.release_time[h.index as usize] = h.release_time;

@@ -2,10 +2,10 @@
 
 use crate::contact::LastingContact;
 use crate::contact::lasting::remove_particles;
-use crate::particles::{Next, Particles};
+use crate::particles::{Features, Next, Particles, feature};
 
 /// A particle whose state became non-finite and was taken out of the simulation.
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct LostParticle {
     /// Simulated time at the end of the step where it was found (s).
     pub time: f64,
@@ -13,11 +13,11 @@ pub struct LostParticle {
     pub id: u32,
 }
 
-/// Swaps `next` into `p` ([`Particles::commit`]) and, when an earlier stage saw a non-finite
+/// Swaps `next` into `p` ([`Particles::commit`]), runs the features' commit and, when an earlier stage saw a non-finite
 /// value (`suspect`), removes every particle whose position or velocity is no longer finite,
 /// recording it in `lost` at `t1`. Returns true when particles were removed (indices changed).
 pub(crate) fn run(
-    p: &mut Particles,
+    (p, features): (&mut Particles, &Features),
     next: &mut Next,
     suspect: bool,
     t1: f64,
@@ -25,6 +25,7 @@ pub(crate) fn run(
     lasting: &mut Vec<LastingContact>,
 ) -> bool {
     p.commit(next);
+    feature::commit(features, p);
     if !suspect {
         return false;
     }

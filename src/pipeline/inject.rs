@@ -185,7 +185,7 @@ pub struct Injector {
 
 /// What an injector has done so far, and its random generator (part of the world: it changes
 /// as the simulation runs).
-#[derive(Debug, Clone)]
+#[derive(Debug, Clone, serde::Serialize, serde::Deserialize)]
 pub struct InjectorState {
     /// Particles due so far (injected or skipped).
     pub due: u64,

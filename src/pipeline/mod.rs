@@ -23,6 +23,10 @@
 //!    integrated from the contact point ([`contact::resolve_in_step`], islands in parallel);
 //! 5. **lasting contacts** — pairs held together or resting on each other
 //!    ([`contact::keep_lasting`]);
+//!
+//!    5½. **features** — each stateful feature's end of step and its part of the step's
+//!    contacts ([`crate::particles::feature`]; a field's cell hints find each particle's
+//!    tetrahedron here);
 //! 6. **commit** — the new state replaces the old; a particle whose state is no longer finite
 //!    is taken out and recorded ([`commit`]);
 //! 7. **outflow and inflow** — outlets take out the particles that left through them
@@ -48,11 +52,10 @@ use crate::flight::{Kernel, Motion, StepFlow, WithMotion, dispatch};
 use crate::fluid::Fluid;
 use crate::fluid::field::{Outside, OutsideField};
 use crate::integrate::IntegratorKind;
-use crate::particles::{Column, NO_TET, Next, ParticleKind, Particles};
+use crate::particles::{Features, NO_TET, Next, ParticleKind, Particles, Touch, feature};
 use crate::walls::Wall;
 use inject::{Injector, InjectorState};
 use outlets::{Outlet, Removal};
-use rayon::prelude::*;
 use std::time::{Duration, Instant};
 
 /// What a scene fixes: nothing here changes while the simulation runs.
@@ -124,7 +127,7 @@ impl Setup {
 }
 
 /// What a step changes.
-#[derive(Debug, Clone, Default)]
+#[derive(Debug, Clone, Default, serde::Serialize, serde::Deserialize)]
 pub struct World {
     /// Simulated time (s).
     pub time: f64,
@@ -214,19 +217,22 @@ pub struct Simulation {
 
 impl Simulation {
     /// A simulation at time 0 of `particles` under `setup`.
-    pub fn new(setup: Setup, mut particles: Particles) -> Self {
-        if let Some(kernel) = &setup.physics.history
-            && !particles.memory.is_on()
-        {
-            // One memory per particle, allocated only here, when a run starts
-            // (docs/physics.md §10): a scene that is only checked never holds it.
-            particles.memory = Column::new(kernel.modes(), glam::DVec3::ZERO, particles.len());
-        }
-        if setup.physics.rotation && !particles.omega.is_on() {
-            // Particles made without the scene loader (which turns the spin on with rotation):
-            // at rest.
-            particles.omega = Column::new(1, glam::DVec3::ZERO, particles.len());
-        }
+    pub fn new(setup: Setup, particles: Particles) -> Self {
+        Simulation::try_new(setup, particles).unwrap_or_else(|e| panic!("{e}"))
+    }
+
+    /// [`Simulation::new`], with the stateful features' columns (the history memory, its
+    /// end-of-step copy: the large ones) reserved first, so that a machine that cannot give
+    /// them is an error rather than an abort.
+    pub fn try_new(
+        setup: Setup,
+        mut particles: Particles,
+    ) -> Result<Self, std::collections::TryReserveError> {
+        // Each feature turns its columns on, when a run starts: a scene that is only checked
+        // never holds them.
+        feature::start_all(&setup.physics.features, &mut particles)?;
+        let mut end_of_step = Vec::new();
+        end_of_step.try_reserve_exact(particles.memory.values().len())?;
         let next_id = particles.id.iter().max().map_or(0, |&i| i + 1);
         let world = World {
             particles,
@@ -235,27 +241,27 @@ impl Simulation {
             ..World::default()
         };
         let record = Record { removed: vec![Vec::new(); setup.outlets.len()], ..Record::default() };
-        Simulation { world, setup, record, scratch: Scratch::default() }
+        let mut scratch = Scratch::default();
+        scratch.next.memory = end_of_step;
+        Ok(Simulation { world, setup, record, scratch })
     }
 
-    /// [`Simulation::new`], with the history effect's two memories (the particles' and the
-    /// step's end-of-step copy) reserved first, so that a machine that cannot give them is an
-    /// error rather than an abort.
-    pub fn try_new(
+    /// A simulation that goes on from a checkpoint: its `world` and what its run had recorded
+    /// (`lost`, `removed`, `left_field`), under `setup` — rebuilt from the same scene. The
+    /// features' columns come with the world; the step's end-of-step copies are reserved first,
+    /// as in [`Simulation::try_new`].
+    pub fn restore(
         setup: Setup,
-        mut particles: Particles,
+        mut world: World,
+        (lost, removed, left_field): (Vec<LostParticle>, Vec<Vec<Removal>>, Option<OutsideField>),
     ) -> Result<Self, std::collections::TryReserveError> {
-        let need = setup.physics.history.as_ref().map_or(0, |k| particles.len() * k.modes());
-        if let Some(kernel) = &setup.physics.history
-            && !particles.memory.is_on()
-        {
-            particles.memory = Column::try_new(kernel.modes(), glam::DVec3::ZERO, particles.len())?;
-        }
+        feature::start_all(&setup.physics.features, &mut world.particles)?;
         let mut end_of_step = Vec::new();
-        end_of_step.try_reserve_exact(need)?;
-        let mut sim = Simulation::new(setup, particles);
-        sim.scratch.next.memory = end_of_step;
-        Ok(sim)
+        end_of_step.try_reserve_exact(world.particles.memory.values().len())?;
+        let record = Record { lost, removed, left_field, ..Record::default() };
+        let mut scratch = Scratch::default();
+        scratch.next.memory = end_of_step;
+        Ok(Simulation { world, setup, record, scratch })
     }
 
     /// Steps with `Δt` until `t_end`, shortening the last step to land on it exactly, so that
@@ -329,27 +335,22 @@ impl WithMotion for StepWith<'_> {
         let mut laps = Laps(Instant::now());
         // The events of this step are those from here on (stage 4 records the first).
         let first_event = record.events.len();
-        // The columns the flight kernel reads for the whole step while stages 1–5 write the
-        // particles: the history memory at the start of the step (the pass writes its end into
-        // `scratch.next`; commit swaps them like the other columns) and, in a field on an
-        // unstructured grid, the tetrahedra at the start of the step. Empty without them.
-        let start_memory = world.particles.memory.take_values();
-        let mut tets = world.particles.tet.take_values();
-        // 1.–5.
-        let suspect = move_and_collide(
-            motion,
-            (world, setup, record, scratch),
-            (&start_memory, &tets),
-            span,
-            &mut laps,
-        );
-        // 5½. The tetrahedron holding each particle's end of the step, walking from its start's:
-        // before commit, so that the column is renumbered with the others.
-        locate_in_grid(setup, &mut tets, &scratch.next);
-        world.particles.tet.swap_values(&mut tets);
+        // 1.–5. The flight kernel reads two columns for the whole step while stage 1 rewrites
+        // where paths start in the store: the history memory and, in a field on an
+        // unstructured grid, the tetrahedra at the start of the step (empty without them). It
+        // holds a share of them (`Column::share`), gone at the end of the block, so that 5½
+        // and commit write them without a copy.
+        let suspect = {
+            let lent = (world.particles.memory.share(), world.particles.tet.share());
+            move_and_collide(motion, (world, setup, record, scratch), (&lent.0, &lent.1), span, &mut laps)
+        };
+        // 5½. The stateful features' end of step (a field's cell hints: the tetrahedron that
+        // holds each particle's end of the step), then their part of each contact.
+        let touches = touches(&world.particles, &record.events[first_event..], &setup.physics.features);
+        feature::end_of_step(&setup.physics.features, &mut world.particles, &mut scratch.next, h, &touches);
         // 6. Commit.
         let mut renumbered = commit::run(
-            &mut world.particles,
+            (&mut world.particles, &setup.physics.features),
             &mut scratch.next,
             suspect,
             span.1,
@@ -367,15 +368,13 @@ impl WithMotion for StepWith<'_> {
         // 8. Emit: the step's events wait in `record.events` for the sinks.
         world.time = span.1;
         world.steps += 1;
-        // The memory at the start of the step becomes the next step's scratch.
-        scratch.next.memory = start_memory;
     }
 }
 
 /// Stages 1–5 over `(t0, t1)`: release, free flight and broad phase (one pass over the
 /// particles), contacts in the step, lasting contacts; the state at the end of the step in
-/// `scratch.next`. The flight kernel reads `start_memory` and `tets` (see
-/// [`StepWith::run`]). Returns true when a particle's new state may not be finite.
+/// `scratch.next`. The flight kernel reads `start_memory` and `tets`, shares of the store's
+/// columns (see [`StepWith::run`]). Returns true when a particle's new state may not be finite.
 fn move_and_collide<M: Motion>(
     motion: &M,
     (world, setup, record, scratch): (&mut World, &Setup, &mut Record, &mut Scratch),
@@ -434,14 +433,28 @@ fn move_and_collide<M: Motion>(
     suspect
 }
 
-/// In a field on an unstructured grid, each particle's tetrahedron at the end of the step
-/// (`next`), found by walking from its start's (`tets`); nothing otherwise.
-fn locate_in_grid(setup: &Setup, tets: &mut [u32], next: &Next) {
-    if let Some(field) = setup.fluid.flow.field()
-        && !tets.is_empty()
-    {
-        tets.par_iter_mut().zip(next.pos.par_iter()).for_each(|(t, &x)| *t = field.tet_of(*t, x));
+/// The step's contacts (`events`) as the features see them, with the index of each particle;
+/// none without a feature.
+fn touches(p: &Particles, events: &[ContactEvent], features: &Features) -> Vec<Touch> {
+    if features.is_empty() {
+        return Vec::new();
     }
+    // Ids rise with the index (injected ids are new, removal keeps the order), unless a program
+    // made the particles otherwise: then the index is looked for.
+    let index = |id: u32| p.id.binary_search(&id).ok().or_else(|| p.id.iter().position(|&i| i == id));
+    events
+        .iter()
+        .filter_map(|e| {
+            Some(Touch {
+                index: index(e.id)?,
+                time: e.time,
+                normal_speed: e.normal_speed,
+                st: e.st,
+                eps: e.eps,
+                wall: matches!(e.other, Other::Wall(_)),
+            })
+        })
+        .collect()
 }
 
 /// Stage 7 at `t1`: the outlets take out the particles that left through them, then the

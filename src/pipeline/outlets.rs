@@ -24,7 +24,7 @@ pub enum OutletShape {
 }
 
 /// One particle taken out by an outlet.
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct Removal {
     /// Its id.
     pub id: u32,

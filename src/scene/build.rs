@@ -125,7 +125,9 @@ pub(super) fn build(
     // Friction needs the spin: a scene with a friction key has rotation (docs/physics.md §9).
     let friction =
         kinds.iter().any(|k| k.friction.named()) || walls.iter().any(|w| w.material.friction.named());
-    physics.rotation |= friction;
+    if friction {
+        crate::effects::Effect::apply(&crate::effects::Rotation {}, &fluid, &kinds, &mut physics);
+    }
     let physics_has_lubrication = physics.wall_lubrication;
     if file.effects.contains_key("added_mass") {
         // The effect checks the sign itself; the range is the scene's (ranges.rs).
@@ -225,12 +227,6 @@ pub(super) fn build(
     }
     // After `dt = "auto"` has chosen: its step is far inside the limit, and this says so.
     check_stable_step(&scene.setup, &scene.particles)?;
-    if scene.setup.fluid.flow.field().is_some_and(|f| f.walks()) {
-        // One remembered tetrahedron per particle, for the walk (physics.md §7); found at the
-        // end of the first step.
-        let p = &mut scene.particles;
-        p.tet = crate::particles::Column::new(1, crate::particles::NO_TET, p.len());
-    }
     if let Some(kernel) = &scene.setup.physics.history {
         // The memory itself is allocated when a run starts (`Simulation::new`), not here: a
         // scene that is only checked never holds it.

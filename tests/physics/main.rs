@@ -12,6 +12,7 @@ mod analytic_stokes_settling;
 mod analytic_vacuum_bounce;
 mod broad_phase_polydisperse;
 mod contact_rules;
+mod feature_example;
 mod flow_poiseuille;
 mod fluid_acceleration;
 mod friction_bed;

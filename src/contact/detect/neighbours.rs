@@ -36,7 +36,7 @@ const CHUNK: usize = 256;
 
 /// Candidate particle pairs within `r_i + r_j + (s_i + s_j)/2` at the last build, `s` the skin of
 /// each particle's size level (module doc).
-#[derive(Debug, Clone, Default)]
+#[derive(Debug, Clone, Default, serde::Serialize, serde::Deserialize)]
 pub struct Neighbours {
     /// Pairs `(i, j)`, `i < j`, in increasing order.
     pub pairs: Vec<[u32; 2]>,

@@ -13,7 +13,7 @@ use glam::DVec3;
 
 /// A lasting contact between particles `a < b` (indices): after an impact below `St_c`
 /// (resting: they may not approach) or during a hold (they move together) **[ext]**.
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct LastingContact {
     /// Lower particle index.
     pub a: u32,
@@ -32,7 +32,7 @@ pub struct LastingContact {
 }
 
 /// The release of a held pair.
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct PairHold {
     /// When the hold ends (s).
     pub release_time: f64,
@@ -64,7 +64,7 @@ impl LastingContact {
 /// start of its rows in the next step, as [`LastingContact::force`] and
 /// [`LastingContact::friction`] are of a pair's. Kept by particle id (not index: outlets and
 /// commit renumber particles), wall and part; sorted by that key.
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct WallContact {
     /// The particle's id.
     pub id: u32,
