@@ -7,7 +7,8 @@ use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 use wetbounce::fluid::field::OutsideField;
 use wetbounce::output::{Folder, Format, OutputError, Progress};
-use wetbounce::run::{Driver, Ended, RunReport, StopSignals};
+use wetbounce::run::checkpoint::SavedScene;
+use wetbounce::run::{CheckpointPolicy, Checkpoints, Driver, Ended, RunReport, StopSignals};
 use wetbounce::scene::{LoadOptions, Scene, field_report, kind_reports};
 
 /// Particles and drops bouncing on walls in a viscous fluid (Legendre et al. 2006).
@@ -55,6 +56,42 @@ struct RunArgs {
     /// (refused otherwise).
     #[arg(long)]
     allow_large_output: bool,
+    #[command(flatten)]
+    checkpoints: CheckpointArgs,
+}
+
+/// When a run checkpoints (docs/output.md, "Checkpoints"); each overrides the scene's
+/// `[checkpoint]` key. A run stopped by SIGINT, SIGTERM or SIGHUP always takes one.
+#[derive(clap::Args, Clone, Copy)]
+struct CheckpointArgs {
+    /// Take a checkpoint every S seconds of simulated time, into DIR/checkpoints/.
+    #[arg(long, value_name = "S")]
+    checkpoint_every: Option<f64>,
+    /// Take a checkpoint every MIN minutes of wall-clock time (what a batch queue's limit needs).
+    #[arg(long, value_name = "MIN")]
+    checkpoint_wall: Option<f64>,
+    /// Keep the newest K checkpoints [default: 2].
+    #[arg(long, value_name = "K", value_parser = clap::value_parser!(u32).range(1..))]
+    checkpoint_keep: Option<u32>,
+}
+
+impl CheckpointArgs {
+    /// The policy: these options over the scene's keys.
+    fn policy(&self, scene: &wetbounce::scene::CheckpointKeys) -> Result<CheckpointPolicy, String> {
+        let positive = |flag: &str, v: Option<f64>| match v {
+            Some(x) if !(x.is_finite() && x > 0.0) => {
+                Err(format!("{flag}: must be a finite number > 0, got {x}"))
+            }
+            v => Ok(v),
+        };
+        let every = positive("--checkpoint-every", self.checkpoint_every)?.or(scene.every);
+        let minutes = positive("--checkpoint-wall", self.checkpoint_wall)?.or(scene.wall_minutes);
+        Ok(CheckpointPolicy {
+            every,
+            wall: minutes.map(|m| std::time::Duration::from_secs_f64(m * 60.0)),
+            keep: self.checkpoint_keep.map(|k| k as usize).or(scene.keep).unwrap_or(2),
+        })
+    }
 }
 
 #[derive(Subcommand)]
@@ -73,6 +110,32 @@ enum Command {
         #[arg(long)]
         allow_large_memory: bool,
     },
+    /// Go on with a run from one of its checkpoints (DIR/checkpoints/checkpoint-*.wbck): the CSV
+    /// files and the ParaView collection continue where the checkpoint left them, an MCAP
+    /// continues as DIR/<scene>.part<N>.mcap, summary.json covers the whole run.
+    Resume {
+        /// The checkpoint file.
+        checkpoint: PathBuf,
+        /// Output folder [default: the checkpointed run's]. The files of the run so far are
+        /// copied there first.
+        #[arg(long)]
+        out: Option<PathBuf>,
+        /// A scene that changes only simulation.duration (longer), simulation.output_interval
+        /// or [checkpoint] [default: the checkpoint's own copy of the scene].
+        #[arg(long)]
+        scene: Option<PathBuf>,
+        /// Files to write [default: the checkpointed run's].
+        #[arg(long, value_delimiter = ',', num_args = 1..)]
+        formats: Option<Vec<Format>>,
+        /// Worker threads [default: all cores]. Results do not depend on it.
+        #[arg(long, value_parser = clap::value_parser!(u16).range(1..))]
+        threads: Option<u16>,
+        /// No progress bar.
+        #[arg(long, short)]
+        quiet: bool,
+        #[command(flatten)]
+        checkpoints: CheckpointArgs,
+    },
     /// Rewrite the readable part of an MCAP cut short (a killed run, a full disk) as a valid
     /// file: every message up to the last whole frame.
     Recover {
@@ -90,6 +153,10 @@ fn main() -> ExitCode {
         Command::Check { scene, allow_long_run, allow_large_memory } => {
             check_scene(&scene, LoadOptions { allow_long_run, allow_large_memory })
                 .map(|text| (text, ExitCode::SUCCESS))
+        }
+        Command::Resume { checkpoint, out, scene, formats, threads, quiet, checkpoints } => {
+            let args = ResumeArgs { checkpoint, out, scene, formats, threads, quiet, checkpoints };
+            resume_run(&args)
         }
         Command::Recover { input, output } => {
             recover_mcap(&input, output.as_deref()).map(|text| (text, ExitCode::SUCCESS))
@@ -119,13 +186,7 @@ fn run_scene(args: &RunArgs) -> Result<(String, ExitCode), String> {
     // cleanly (after its first frame) rather than killing it.
     let signals = StopSignals::install().map_err(|e| format!("cannot install the signal handlers: {e}"))?;
     let path = args.scene.as_path();
-    let mut text = String::new();
-    if let Some(n) = args.threads {
-        rayon::ThreadPoolBuilder::new()
-            .num_threads(n as usize)
-            .build_global()
-            .map_err(|e| format!("--threads {n}: {e}"))?;
-    }
+    set_threads(args.threads)?;
     let formats = args.formats.clone().unwrap_or_else(Format::defaults);
     for f in &formats {
         f.available().map_err(|e| format!("--formats {}: {e}", f.name()))?;
@@ -152,16 +213,47 @@ fn run_scene(args: &RunArgs) -> Result<(String, ExitCode), String> {
         // Spin columns only in a scene with rotation: the others keep their files byte for byte.
         rotation: scene.setup.physics.rotation,
     };
-    let mut driver = Driver::new(Some(&folder), &formats, scene.duration, output_interval)
+    let policy = args.checkpoints.policy(&scene.checkpoint)?;
+    let saved_scene = SavedScene {
+        path: std::path::absolute(path).unwrap_or_else(|_| path.to_path_buf()),
+        given: path.to_path_buf(),
+        source: scene.source.clone(),
+        output_interval,
+        formats: formats.iter().map(|f| f.name().to_string()).collect(),
+        stem: stem.clone(),
+        max_spheres: args.max_spheres,
+    };
+    let checkpoints = Checkpoints::new(policy, &out.join("checkpoints"), saved_scene, 0.0);
+    let driver = Driver::new(Some(&folder), &formats, scene.duration, output_interval)
         .map_err(|errors| errors.iter().map(ToString::to_string).collect::<Vec<_>>().join("\nerror: "))?;
     report_stale(driver.stale());
+    // An earlier run's checkpoints would resume it over this run's files.
+    for old in wetbounce::run::checkpoint::list(checkpoints.folder()) {
+        if std::fs::remove_file(&old).is_ok() {
+            eprintln!("note: removed {}: a checkpoint of an earlier run", old.display());
+        }
+    }
+    let mut driver = driver.checkpointing(checkpoints);
     let mut progress = Progress::new(scene.duration, args.quiet);
 
     // The scene's particles move into the simulation: a run holds one copy of them.
     let mut sim = scene.take_simulation().map_err(|e| e.to_string())?;
     let result = driver.run(&mut sim, vec![&mut progress], signals.flag());
+    Ok(finish_run(driver, &sim, result, (&scene, path, output_interval), &signals))
+}
+
+/// Ends a run (fresh or resumed): `summary.json`, the report on standard output, the exit status.
+fn finish_run(
+    driver: Driver,
+    sim: &wetbounce::Simulation,
+    result: Result<RunReport, wetbounce::run::RunFailed>,
+    (scene, path, output_interval): (&Scene, &Path, f64),
+    signals: &StopSignals,
+) -> (String, ExitCode) {
+    let mut text = String::new();
+    let checkpoints: Vec<PathBuf> = driver.checkpoints_written().to_vec();
     let signal = signals.received().map(|s| s.name);
-    let Ended { report, summary, errors, written } = driver.finish(&sim, result, signal);
+    let Ended { report, summary, errors, written } = driver.finish(sim, result, signal);
     // The step actually taken: `dt`, or the output interval when that is shorter (a step never
     // crosses an output time).
     let step = if output_interval < scene.setup.dt {
@@ -186,7 +278,76 @@ fn run_scene(args: &RunArgs) -> Result<(String, ExitCode), String> {
     // A file that failed is named on standard error, not as written (`Ended::written`).
     let names: Vec<String> = written.iter().map(|p| p.display().to_string()).collect();
     let _ = writeln!(text, "wrote {}", names.join(", "));
-    Ok((text, exit_status(&report, scene.duration, &signals, &errors, sim.record.left_field.as_ref())))
+    if let Some(last) = checkpoints.iter().rev().find(|p| p.is_file()) {
+        let _ = writeln!(text, "checkpoint {} (wetbounce resume {0} goes on from it)", last.display());
+    }
+    (text, exit_status(&report, scene.duration, signals, &errors, sim.record.left_field.as_ref()))
+}
+
+/// The options of `resume`.
+struct ResumeArgs {
+    checkpoint: PathBuf,
+    out: Option<PathBuf>,
+    scene: Option<PathBuf>,
+    formats: Option<Vec<Format>>,
+    threads: Option<u16>,
+    quiet: bool,
+    checkpoints: CheckpointArgs,
+}
+
+fn resume_run(args: &ResumeArgs) -> Result<(String, ExitCode), String> {
+    let signals = StopSignals::install().map_err(|e| format!("cannot install the signal handlers: {e}"))?;
+    set_threads(args.threads)?;
+    let resumed =
+        wetbounce::run::resume::resume(&args.checkpoint, args.scene.as_deref()).map_err(|e| e.to_string())?;
+    let wetbounce::run::resume::Resumed { mut saved, scene, mut sim, .. } = resumed;
+    let formats = match &args.formats {
+        Some(f) => f.clone(),
+        None => saved.scene.formats.iter().map(|n| Format::parse(n)).collect::<Result<_, _>>()?,
+    };
+    for f in &formats {
+        f.available().map_err(|e| format!("--formats {}: {e}", f.name()))?;
+    }
+    let from = wetbounce::run::resume::run_folder(&args.checkpoint);
+    let out = args.out.clone().unwrap_or_else(|| from.clone());
+    wetbounce::run::resume::carry_outputs(&from, &out, &saved)
+        .map_err(|e| format!("{}: cannot carry the run's files to {}: {e}", from.display(), out.display()))?;
+    let (stem, scene_path) = (saved.scene.stem.clone(), saved.scene.given.clone());
+    let folder = Folder {
+        out: &out,
+        stem: &stem,
+        scene_path: &scene_path,
+        scene_source: &scene.source,
+        max_spheres: saved.scene.max_spheres,
+        rotation: scene.setup.physics.rotation,
+    };
+    // A new output interval (`--scene`) counts frames from the checkpoint's time on.
+    if scene.output_interval != saved.scene.output_interval {
+        let t = sim.world.time;
+        saved.position.k = (t / scene.output_interval * (1.0 + 1e-12)).floor() as u64 + 1;
+        saved.position.at_frame = false;
+        saved.scene.output_interval = scene.output_interval;
+    }
+    saved.scene.formats = formats.iter().map(|f| f.name().to_string()).collect();
+    let policy = args.checkpoints.policy(&scene.checkpoint)?;
+    let checkpoints = Checkpoints::new(policy, &out.join("checkpoints"), saved.scene.clone(), sim.world.time);
+    let driver = Driver::resume(&folder, &formats, scene.duration, &saved)
+        .map_err(|errors| errors.iter().map(ToString::to_string).collect::<Vec<_>>().join("\nerror: "))?;
+    let mut driver = driver.checkpointing(checkpoints);
+    let mut progress = Progress::new(scene.duration, args.quiet);
+    let result = driver.run(&mut sim, vec![&mut progress], signals.flag());
+    Ok(finish_run(driver, &sim, result, (&scene, &scene_path, scene.output_interval), &signals))
+}
+
+/// `--threads N`: rayon's pool of N workers.
+fn set_threads(threads: Option<u16>) -> Result<(), String> {
+    if let Some(n) = threads {
+        rayon::ThreadPoolBuilder::new()
+            .num_threads(n as usize)
+            .build_global()
+            .map_err(|e| format!("--threads {n}: {e}"))?;
+    }
+    Ok(())
 }
 
 /// Says on standard error which outputs of an earlier run were removed (`output::stale`): left

@@ -2,7 +2,7 @@
 //! killed or whose disk fills keeps every whole frame and every event up to its last frame.
 
 use super::file::OutputFile;
-use super::{OutputError, Sink};
+use super::{OutputError, Sink, SinkMark};
 use crate::contact::ContactEvent;
 use crate::pipeline::{LostParticle, Simulation};
 use std::path::{Path, PathBuf};
@@ -17,6 +17,21 @@ fn create(path: &Path, header: &[&str]) -> Result<Writer, OutputError> {
     // a readable events.csv, and a file that cannot be written fails before the run starts.
     w.flush().map_err(|e| OutputError::write(path, e))?;
     Ok(w)
+}
+
+/// Opens `path` to go on from a checkpoint: cut to `bytes` (what followed was written after the
+/// checkpoint, and the resumed run writes it again), then appended to, with no header.
+fn resume(path: &Path, bytes: u64) -> Result<Writer, OutputError> {
+    let file = OutputFile::append_at(path, bytes, 1 << 20)?;
+    Ok(csv::WriterBuilder::new().has_headers(false).from_writer(file))
+}
+
+/// The mark of a CSV file: flushed, and its length.
+fn mark(w: &mut Writer, path: &Path) -> Result<Option<SinkMark>, OutputError> {
+    w.flush().map_err(|e| OutputError::write(path, e))?;
+    let bytes = w.get_ref().length().map_err(|e| OutputError::write(path, e))?;
+    let name = path.file_name().map_or_else(String::new, |n| n.to_string_lossy().into_owned());
+    Ok(Some(SinkMark::File { name, bytes }))
 }
 
 /// Flushes what is left and syncs the file to the disk.
@@ -49,6 +64,13 @@ impl TrajectoryCsv {
         let w = create(&path, &header)?;
         Ok(TrajectoryCsv { path, w, rotation })
     }
+
+    /// Opens the file of a checkpointed run to go on at `bytes` ([`SinkMark::File`]).
+    pub fn resume(path: impl Into<PathBuf>, bytes: u64, rotation: bool) -> Result<Self, OutputError> {
+        let path = path.into();
+        let w = resume(&path, bytes)?;
+        Ok(TrajectoryCsv { path, w, rotation })
+    }
 }
 
 impl Sink for TrajectoryCsv {
@@ -70,6 +92,10 @@ impl Sink for TrajectoryCsv {
 
     fn finish(&mut self) -> Result<(), OutputError> {
         finish(&mut self.w, &self.path)
+    }
+
+    fn mark(&mut self) -> Result<Option<SinkMark>, OutputError> {
+        mark(&mut self.w, &self.path)
     }
 }
 
@@ -97,6 +123,13 @@ impl EventCsv {
             header.extend(["tangential_speed", "incidence_angle"]);
         }
         let w = create(&path, &header)?;
+        Ok(EventCsv { path, w, rotation })
+    }
+
+    /// Opens the file of a checkpointed run to go on at `bytes` ([`SinkMark::File`]).
+    pub fn resume(path: impl Into<PathBuf>, bytes: u64, rotation: bool) -> Result<Self, OutputError> {
+        let path = path.into();
+        let w = resume(&path, bytes)?;
         Ok(EventCsv { path, w, rotation })
     }
 }
@@ -136,5 +169,9 @@ impl Sink for EventCsv {
 
     fn finish(&mut self) -> Result<(), OutputError> {
         finish(&mut self.w, &self.path)
+    }
+
+    fn mark(&mut self) -> Result<Option<SinkMark>, OutputError> {
+        mark(&mut self.w, &self.path)
     }
 }

@@ -39,6 +39,37 @@ impl OutputFile {
         })
     }
 
+    /// Opens `path`, written by an earlier part of the run, to append to it from `bytes` on:
+    /// what followed is cut (written after the checkpoint the run goes on from). A file shorter
+    /// than `bytes` is an error: it is not the file the checkpoint knew.
+    pub fn append_at(path: &Path, bytes: u64, capacity: usize) -> Result<Self, OutputError> {
+        let opened = (|| -> io::Result<File> {
+            let file = std::fs::OpenOptions::new().write(true).open(path)?;
+            let len = file.metadata()?.len();
+            if len < bytes {
+                return Err(io::Error::other(format!(
+                    "it has {len} bytes, fewer than the {bytes} it had at the checkpoint"
+                )));
+            }
+            file.set_len(bytes)?;
+            let mut file = file;
+            file.seek(SeekFrom::Start(bytes))?;
+            Ok(file)
+        })();
+        let file =
+            opened.map_err(|e| OutputError::new(path, format!("cannot go on from the checkpoint: {e}")))?;
+        Ok(OutputFile {
+            inner: BufWriter::with_capacity(capacity, file),
+            last_sync: Cell::new(Instant::now()),
+            first_error: Arc::new(OnceLock::new()),
+        })
+    }
+
+    /// The length of a file written in sequence, what is still buffered included (bytes).
+    pub fn length(&self) -> io::Result<u64> {
+        Ok(self.inner.get_ref().metadata()?.len() + self.inner.buffer().len() as u64)
+    }
+
     /// The first error this file met, as the OS said it (`No space left on device (os error
     /// 28)`); shared, so that it can be read while a writer above owns the file.
     pub fn first_error(&self) -> Arc<OnceLock<String>> {

@@ -3,7 +3,7 @@
 //! stale outputs removed (issue 26, item 3: the two had drifted — Python could not write VTK
 //! and never removed stale files).
 
-use super::{EventCsv, McapOptions, McapSink, OutputError, Sink, TrajectoryCsv, VtkSink, stale};
+use super::{EventCsv, McapOptions, McapSink, OutputError, Sink, SinkMark, TrajectoryCsv, VtkSink, stale};
 use std::path::{Path, PathBuf};
 
 /// An output file format of a run.
@@ -146,6 +146,100 @@ impl Folder<'_> {
                 let stale = stale::remove(out, stem, &written);
                 Ok(Outputs { sinks, written, stale })
             }
+            Err(e) => {
+                let mut errors = vec![e];
+                errors.extend(sinks.iter_mut().filter_map(|s| s.finish().err()));
+                Err(errors)
+            }
+        }
+    }
+}
+
+impl Folder<'_> {
+    /// The sinks of a resumed run, from the marks its checkpoint kept ([`SinkMark`]): each CSV
+    /// file cut at its mark and appended to, the ParaView collection likewise, an MCAP (and a
+    /// rerun recording) started as the run's next part, `<stem>.part<N>.mcap`. The formats are
+    /// the checkpointed run's; a mark of a format not asked for is left alone, a format asked
+    /// for without a mark (added at resume) starts a new file as `create` does. No stale file
+    /// is removed: every file of the folder is the run's.
+    pub fn resume(&self, formats: &[Format], marks: &[SinkMark]) -> Result<Outputs, Vec<OutputError>> {
+        let out = self.out;
+        std::fs::create_dir_all(out)
+            .map_err(|e| vec![OutputError::new(out, format!("cannot create the output folder: {e}"))])?;
+        let mut sinks: Vec<Box<dyn Sink + Send>> = Vec::new();
+        let mut written: Vec<PathBuf> = Vec::new();
+        let (stem, rotation) = (self.stem, self.rotation);
+        let file_mark = |name: &str| {
+            marks.iter().find_map(|m| match m {
+                SinkMark::File { name: n, bytes } if n == name => Some(*bytes),
+                _ => None,
+            })
+        };
+        let parts = |format: &str| {
+            marks
+                .iter()
+                .find_map(|m| match m {
+                    SinkMark::Parts { format: f, parts } if f == format => Some(*parts),
+                    _ => None,
+                })
+                .unwrap_or(0)
+        };
+        let part_name = |part: u32, ext: &str| {
+            if part <= 1 { format!("{stem}.{ext}") } else { format!("{stem}.part{part}.{ext}") }
+        };
+        let created = (|| -> Result<(), OutputError> {
+            if formats.contains(&Format::Mcap) {
+                let part = parts("mcap") + 1;
+                let file = out.join(part_name(part, "mcap"));
+                let options = McapOptions {
+                    max_spheres: self.max_spheres,
+                    scene_path: self.scene_path.display().to_string(),
+                    scene_source: self.scene_source.to_owned(),
+                };
+                sinks.push(Box::new(McapSink::create_for(&file, options, rotation)?.as_part(part)));
+                written.push(file);
+            }
+            if formats.contains(&Format::Csv) {
+                let t = out.join("trajectories.csv");
+                match file_mark("trajectories.csv") {
+                    Some(bytes) => sinks.push(Box::new(TrajectoryCsv::resume(&t, bytes, rotation)?)),
+                    None => sinks.push(Box::new(TrajectoryCsv::create_for(&t, rotation)?)),
+                }
+                written.push(t);
+            }
+            if formats.contains(&Format::Vtk) {
+                let mark = marks.iter().find_map(|m| match m {
+                    SinkMark::Vtk { tail_at, frames, walls_written } => {
+                        Some((*tail_at, *frames, *walls_written))
+                    }
+                    _ => None,
+                });
+                let vtk = match mark {
+                    Some(mark) => VtkSink::resume(out, stem, mark)?,
+                    None => VtkSink::create(out, stem)?,
+                };
+                written.push(vtk.pvd_path().to_path_buf());
+                written.push(vtk.walls_path().to_path_buf());
+                sinks.push(Box::new(vtk));
+            }
+            if formats.contains(&Format::Csv) || formats.contains(&Format::Vtk) {
+                let e = out.join("events.csv");
+                match file_mark("events.csv") {
+                    Some(bytes) => sinks.push(Box::new(EventCsv::resume(&e, bytes, rotation)?)),
+                    None => sinks.push(Box::new(EventCsv::create_for(&e, rotation)?)),
+                }
+                written.push(e);
+            }
+            #[cfg(feature = "rerun")]
+            if formats.contains(&Format::Rrd) {
+                let file = out.join(part_name(parts("rrd") + 1, "rrd"));
+                sinks.push(Box::new(super::RerunSink::create(&file, stem, self.scene_source)?));
+                written.push(file);
+            }
+            Ok(())
+        })();
+        match created {
+            Ok(()) => Ok(Outputs { sinks, written, stale: stale::Removed::default() }),
             Err(e) => {
                 let mut errors = vec![e];
                 errors.extend(sinks.iter_mut().filter_map(|s| s.finish().err()));

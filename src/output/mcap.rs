@@ -23,7 +23,7 @@
 
 use super::file::OutputFile;
 use super::geometry::{self, Solid, WALL_COLOR};
-use super::{OutputError, Sink};
+use super::{OutputError, Sink, SinkMark};
 use crate::contact::ContactEvent;
 use crate::pipeline::{LostParticle, Simulation};
 use foxglove::messages::packed_element_field::NumericType;
@@ -127,6 +127,9 @@ pub struct McapSink {
     scene: Channel<SceneUpdate>,
     events: Arc<RawChannel>,
     walls_written: bool,
+    /// Which part of the run this file is: 1, and one more for each resumed part
+    /// (`<stem>.part<N>.mcap`, [`SinkMark::Parts`]).
+    part: u32,
     spheres_shown: bool,
     json: Vec<u8>,
     order: Vec<usize>,
@@ -172,6 +175,12 @@ impl McapSink {
     /// Creates the file at `path` and writes the metadata (no spin fields).
     pub fn create(path: impl Into<PathBuf>, options: McapOptions) -> Result<Self, OutputError> {
         Self::create_for(path, options, false)
+    }
+
+    /// The file of part `part` of a resumed run (`<stem>.part<N>.mcap`).
+    pub fn as_part(mut self, part: u32) -> Self {
+        self.part = part;
+        self
     }
 
     /// Creates the file at `path` and writes the metadata; with `rotation` (the scene's
@@ -228,6 +237,7 @@ impl McapSink {
             scene,
             events,
             walls_written: false,
+            part: 1,
             spheres_shown: false,
             json: Vec::new(),
             order: Vec::new(),
@@ -480,6 +490,10 @@ impl Sink for McapSink {
 
     /// Writes the summary and footer, and syncs the file. A file that failed is left as it is:
     /// its error was reported, and the writer refuses to go on after a failed write.
+    fn mark(&mut self) -> Result<Option<SinkMark>, OutputError> {
+        Ok(Some(SinkMark::Parts { format: "mcap".into(), parts: self.part }))
+    }
+
     fn finish(&mut self) -> Result<(), OutputError> {
         let Some(w) = self.writer.take() else { return Ok(()) };
         if self.failed {

@@ -67,6 +67,39 @@ impl OutputError {
     }
 }
 
+/// What a sink is at a checkpoint, for a resumed run to go on from (`crate::run::checkpoint`).
+#[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
+pub enum SinkMark {
+    /// A file written in sequence (a CSV file): its name in the output folder and its length
+    /// (bytes) at the checkpoint. A resumed run cuts it there and appends.
+    File {
+        /// The file's name in the output folder.
+        name: String,
+        /// Its length at the checkpoint (bytes).
+        bytes: u64,
+    },
+    /// The summary's statistics.
+    Statistics(Statistics),
+    /// An output that a resumed run starts afresh as a new part (`<stem>.part<N>.mcap`): the
+    /// parts written so far.
+    Parts {
+        /// The format (`mcap`).
+        format: String,
+        /// Files written so far, this one included.
+        parts: u32,
+    },
+    /// The ParaView collection: where its closing tags start, the frames written, whether the
+    /// walls' file is.
+    Vtk {
+        /// Where the `.pvd`'s closing tags start (bytes).
+        tail_at: u64,
+        /// Frames written.
+        frames: u64,
+        /// The walls' file is written.
+        walls_written: bool,
+    },
+}
+
 /// Something that receives a run's frames and events. Every method defaults to doing nothing.
 pub trait Sink {
     /// A frame at the simulation's current time (called at t = 0 and every output interval).
@@ -92,5 +125,11 @@ pub trait Sink {
     /// The run is over (finished or interrupted): flush and close.
     fn finish(&mut self) -> Result<(), OutputError> {
         Ok(())
+    }
+    /// A checkpoint is taken: hand everything written so far to the operating system and say
+    /// what a resumed run needs to go on from here ([`SinkMark`]); `None` for a sink that
+    /// keeps nothing (the progress bar).
+    fn mark(&mut self) -> Result<Option<SinkMark>, OutputError> {
+        Ok(None)
     }
 }

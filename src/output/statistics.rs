@@ -7,7 +7,7 @@ use crate::pipeline::Simulation;
 use std::fmt;
 
 /// Counts and means over all contact events of a run, in total and per wall.
-#[derive(Debug, Clone, Default, PartialEq)]
+#[derive(Debug, Clone, Default, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct Statistics {
     /// Every contact, with walls and between particles.
     pub all: ImpactTally,
@@ -16,7 +16,7 @@ pub struct Statistics {
 }
 
 /// Counts per outcome, mean St and mean ε of a set of contacts (a whole run, or one wall).
-#[derive(Debug, Clone, Default, PartialEq)]
+#[derive(Debug, Clone, Default, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct ImpactTally {
     /// Impacts that held the particle.
     pub held: u64,
@@ -164,6 +164,10 @@ impl Sink for Statistics {
     fn events(&mut self, _sim: &Simulation, events: &[ContactEvent]) -> Result<(), OutputError> {
         events.iter().for_each(|e| self.add(e));
         Ok(())
+    }
+
+    fn mark(&mut self) -> Result<Option<super::SinkMark>, OutputError> {
+        Ok(Some(super::SinkMark::Statistics(self.clone())))
     }
 }
 

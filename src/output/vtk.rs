@@ -26,7 +26,7 @@
 
 use super::file::OutputFile;
 use super::geometry::{self, Solid};
-use super::{OutputError, Sink};
+use super::{OutputError, Sink, SinkMark};
 use crate::pipeline::Simulation;
 use std::fmt::Write as _;
 use std::io::{Seek, SeekFrom, Write};
@@ -54,7 +54,7 @@ pub const ROTATION_POINT_ARRAYS: &[(&str, &str, u32, &str)] =
 const COMPRESSION_LEVEL: u32 = 6;
 
 /// What closes the `.pvd`; each frame's entry is written over it, followed by it again.
-const PVD_TAIL: &str = "  </Collection>\n</VTKFile>\n";
+pub const PVD_TAIL: &str = "  </Collection>\n</VTKFile>\n";
 
 /// Writes the `.pvd` collection, the particle frames and the walls.
 pub struct VtkSink {
@@ -122,6 +122,31 @@ impl VtkSink {
             walls_path: dir.join(format!("{stem}_walls.vtp")),
             walls_written: false,
             frames: 0,
+        })
+    }
+
+    /// Opens the collection of a checkpointed run to go on from its mark ([`SinkMark::Vtk`]):
+    /// the `.pvd` cut after its closing tags there, the next frame numbered after the last
+    /// one the checkpoint knew (a frame written after it is written again).
+    pub fn resume(
+        dir: &Path,
+        stem: &str,
+        (tail_at, frames, walls_written): (u64, u64, bool),
+    ) -> Result<Self, OutputError> {
+        let frames_name = format!("{stem}_vtk");
+        let frames_dir = dir.join(&frames_name);
+        std::fs::create_dir_all(&frames_dir).map_err(|e| OutputError::create(&frames_dir, e))?;
+        let pvd_path = dir.join(format!("{stem}.pvd"));
+        let pvd = OutputFile::append_at(&pvd_path, tail_at + PVD_TAIL.len() as u64, 1 << 16)?;
+        Ok(VtkSink {
+            pvd_path,
+            pvd,
+            tail_at,
+            frames_dir,
+            frames_rel: xml_escape(&frames_name),
+            walls_path: dir.join(format!("{stem}_walls.vtp")),
+            walls_written,
+            frames,
         })
     }
 
@@ -258,6 +283,12 @@ impl Sink for VtkSink {
             sim.world.time, self.frames_rel, name
         );
         self.append_to_pvd(&entry)
+    }
+
+    fn mark(&mut self) -> Result<Option<SinkMark>, OutputError> {
+        self.pvd.flush().map_err(|e| OutputError::write(&self.pvd_path, e))?;
+        let (tail_at, frames, walls_written) = (self.tail_at, self.frames, self.walls_written);
+        Ok(Some(SinkMark::Vtk { tail_at, frames, walls_written }))
     }
 
     fn finish(&mut self) -> Result<(), OutputError> {

@@ -4,7 +4,8 @@
 //! ended. The two callers had drifted (issue 26, item 3): Python could not write VTK, never
 //! removed stale outputs and left the flow error out of its summary.
 
-use super::{RunFailed, RunReport, run};
+use super::checkpoint::Saved;
+use super::{Checkpoints, Plan, RunFailed, RunPosition, RunReport, run_plan};
 use crate::output::file::write_file;
 use crate::output::stale::Removed;
 use crate::output::{Folder, Format, OutputError, Outputs, RunSummary, Sink, Statistics};
@@ -22,6 +23,9 @@ pub struct Driver {
     stats: Statistics,
     duration: f64,
     output_interval: f64,
+    /// Where a resumed run's loop stands; `None` for a run from its start.
+    from: Option<RunPosition>,
+    checkpoints: Option<Checkpoints>,
 }
 
 /// How a driven run ended, with its summary and files.
@@ -54,7 +58,51 @@ impl Driver {
                 PathBuf::new(),
             ),
         };
-        Ok(Driver { outputs, out, scene_path, stats: Statistics::default(), duration, output_interval })
+        Ok(Driver {
+            outputs,
+            out,
+            scene_path,
+            stats: Statistics::default(),
+            duration,
+            output_interval,
+            from: None,
+            checkpoints: None,
+        })
+    }
+
+    /// The driver of a run that goes on from the checkpoint `saved`: the folder's files opened
+    /// where the checkpoint left them (`Folder::resume`: the CSV files and the ParaView
+    /// collection cut there and appended to, an MCAP started as the run's next part), the
+    /// summary's statistics and the run loop's position restored, to `duration` (s, the
+    /// checkpointed run's or longer).
+    pub fn resume(
+        folder: &Folder,
+        formats: &[Format],
+        duration: f64,
+        saved: &Saved,
+    ) -> Result<Driver, Vec<OutputError>> {
+        let outputs = folder.resume(formats, &saved.sinks)?;
+        Ok(Driver {
+            outputs,
+            out: Some(folder.out.to_path_buf()),
+            scene_path: folder.scene_path.to_path_buf(),
+            stats: saved.statistics().cloned().unwrap_or_default(),
+            duration,
+            output_interval: saved.scene.output_interval,
+            from: Some(saved.position),
+            checkpoints: None,
+        })
+    }
+
+    /// Takes `checkpoints` as the run goes (docs/output.md, "Checkpoints").
+    pub fn checkpointing(mut self, checkpoints: Checkpoints) -> Self {
+        self.checkpoints = Some(checkpoints);
+        self
+    }
+
+    /// The checkpoints written so far, oldest first.
+    pub fn checkpoints_written(&self) -> &[PathBuf] {
+        self.checkpoints.as_ref().map_or(&[], |c| &c.written)
     }
 
     /// The earlier run's outputs removed from the folder, for the caller to report.
@@ -75,7 +123,13 @@ impl Driver {
             self.outputs.sinks.iter_mut().map(|s| s.as_mut() as &mut dyn Sink).collect();
         all.push(&mut self.stats);
         all.extend(extra);
-        run(sim, self.duration, self.output_interval, &mut all, stop)
+        let plan = Plan {
+            duration: self.duration,
+            output_interval: self.output_interval,
+            from: self.from.take(),
+            checkpoints: self.checkpoints.as_mut(),
+        };
+        run_plan(sim, plan, &mut all, stop)
     }
 
     /// Ends the run `result` of [`Self::run`] left: writes `summary.json` (with a folder) — the

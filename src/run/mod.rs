@@ -1,8 +1,13 @@
 //! The run driver: steps a simulation to its end, feeding frames and events to the sinks, and
 //! the signals that stop it cleanly ([`StopSignals`]).
 
+pub mod checkpoint;
+mod checkpoints;
 mod driver;
+pub mod resume;
 
+pub use checkpoint::{CheckpointError, RunPosition};
+pub use checkpoints::{CheckpointPolicy, Checkpoints, save_to};
 pub use driver::{Driver, Ended};
 
 use crate::output::{OutputError, Sink};
@@ -60,26 +65,72 @@ pub fn run(
     sinks: &mut [&mut dyn Sink],
     stop: &AtomicBool,
 ) -> Result<RunReport, RunFailed> {
+    let plan = Plan { duration, output_interval, from: None, checkpoints: None };
+    run_plan(sim, plan, sinks, stop)
+}
+
+/// What [`run_plan`] runs: to `duration` with a frame every `output_interval` (s), from the
+/// start or from where a checkpoint left the run loop (`from`), taking checkpoints or not.
+pub struct Plan<'a> {
+    /// Simulated time to reach (s).
+    pub duration: f64,
+    /// Simulated time between frames (s).
+    pub output_interval: f64,
+    /// Where a resumed run's loop stands; `None` for a run from its start.
+    pub from: Option<RunPosition>,
+    /// The checkpoints to take; `None` for none.
+    pub checkpoints: Option<&'a mut Checkpoints>,
+}
+
+/// [`run`], from a checkpoint's position and taking checkpoints as `plan` says. A checkpoint is
+/// taken after a whole step, once the sinks have its events, when one is due
+/// ([`Checkpoints::due`]), and when `stop` ends the run: then before the last frame, so that a
+/// resumed run, which cuts the files at the checkpoint, writes the files of a run never
+/// stopped. A checkpoint that cannot be written stops the run as an output error does.
+pub fn run_plan(
+    sim: &mut Simulation,
+    plan: Plan<'_>,
+    sinks: &mut [&mut dyn Sink],
+    stop: &AtomicBool,
+) -> Result<RunReport, RunFailed> {
+    let Plan { duration, output_interval, from, mut checkpoints } = plan;
     let start = Instant::now();
-    let mut frames = 0;
-    let mut lost_reported = sim.record.lost.len();
+    let mut at =
+        from.unwrap_or(RunPosition { lost_reported: sim.record.lost.len() as u64, ..Default::default() });
+    let wall_before = at.wall_time;
     let result = (|| {
-        let mut k: u64 = 0;
+        // A resumed run stands either just after frame `k` (at a frame) or on its way to it.
+        let mut on_the_way = from.is_some_and(|p| !p.at_frame);
+        let mut frame_written = from.is_some_and(|p| p.at_frame);
         loop {
-            for s in sinks.iter_mut() {
-                s.frame(sim)?;
+            if !on_the_way {
+                if !frame_written {
+                    for s in sinks.iter_mut() {
+                        s.frame(sim)?;
+                    }
+                    at.frames += 1;
+                }
+                frame_written = false;
+                at.at_frame = true;
+                if sim.world.time >= duration {
+                    if let Some(c) = checkpoints.as_deref_mut()
+                        && c.periodic()
+                    {
+                        at.wall_time = wall_before + start.elapsed().as_secs_f64();
+                        c.take(sim, at, sinks)?;
+                    }
+                    return Ok(false);
+                }
+                // A signal that came before the first step (while the scene loaded) stops the
+                // run here, with the frame just written as its last.
+                if stop.load(Ordering::Relaxed) {
+                    return Ok(true);
+                }
+                at.k += 1;
+                at.at_frame = false;
             }
-            frames += 1;
-            if sim.world.time >= duration {
-                return Ok(false);
-            }
-            // A signal that came before the first step (while the scene loaded) stops the run
-            // here, with the frame just written as its last.
-            if stop.load(Ordering::Relaxed) {
-                return Ok(true);
-            }
-            k += 1;
-            let next = (k as f64 * output_interval).min(duration);
+            on_the_way = false;
+            let next = (at.k as f64 * output_interval).min(duration);
             while sim.world.time < next {
                 // One step at a time, so that a signal stops within a step; the last step of an
                 // interval lands on `next` exactly (`advance_to` shortens or stretches it).
@@ -90,19 +141,27 @@ pub fn run(
                     s.step(sim)?;
                 }
                 flush_events(sim, sinks)?;
+                let lost_reported = at.lost_reported as usize;
                 if sim.record.lost.len() > lost_reported {
                     for s in sinks.iter_mut() {
                         s.lost(sim, &sim.record.lost[lost_reported..])?;
                     }
-                    lost_reported = sim.record.lost.len();
+                    at.lost_reported = sim.record.lost.len() as u64;
                 }
                 // A particle outside a flow field whose outside is an error ends the run like a
                 // stop signal, with a last frame; the caller reports `record.left_field`.
-                if stop.load(Ordering::Relaxed) || sim.record.left_field.is_some() {
+                let stopping = stop.load(Ordering::Relaxed) || sim.record.left_field.is_some();
+                if let Some(c) = checkpoints.as_deref_mut()
+                    && (stopping || c.due(sim))
+                {
+                    at.wall_time = wall_before + start.elapsed().as_secs_f64();
+                    c.take(sim, at, sinks)?;
+                }
+                if stopping {
                     for s in sinks.iter_mut() {
                         s.frame(sim)?;
                     }
-                    frames += 1;
+                    at.frames += 1;
                     return Ok(true);
                 }
             }
@@ -115,6 +174,12 @@ pub fn run(
         errors.push(e);
         sim.world.time < duration
     });
+    // The last checkpoint reaches the disk before the run ends.
+    if let Some(c) = checkpoints
+        && let Err(e) = c.wait()
+    {
+        errors.push(e);
+    }
     // Every sink is finished, whatever happened to the others. A file that already failed may
     // fail again on its last flush: it is named once.
     for s in sinks.iter_mut() {
@@ -127,8 +192,8 @@ pub fn run(
     let report = RunReport {
         time: sim.world.time,
         steps: sim.world.steps,
-        wall_time: start.elapsed(),
-        frames,
+        wall_time: Duration::from_secs_f64(wall_before) + start.elapsed(),
+        frames: at.frames,
         interrupted,
     };
     if errors.is_empty() { Ok(report) } else { Err(RunFailed { report, errors }) }

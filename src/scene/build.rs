@@ -95,6 +95,7 @@ pub(super) fn build(
     };
     let duration = check::positive_in("simulation.duration", sim.duration, &TIME)?;
     let output_interval = check::positive_in("simulation.output_interval", sim.output_interval, &TIME)?;
+    let checkpoint = checkpoint_keys(&file.checkpoint)?;
 
     let fluid = build_fluid(&file.fluid, base, source)?;
     let mut kinds = build_kinds(&file.kinds)?;
@@ -217,6 +218,7 @@ pub(super) fn build(
         particles,
         estimate,
         estimate_inputs,
+        checkpoint,
     };
     if sim.dt == DtSpec::Auto {
         let auto = auto_step(&scene, sim.accuracy.unwrap_or_default())
@@ -607,4 +609,22 @@ fn check_roughness_below_radius(
         }
     }
     Ok(())
+}
+
+/// The `[checkpoint]` table, checked.
+fn checkpoint_keys(spec: &super::schema::CheckpointSpec) -> Result<super::CheckpointKeys, Invalid> {
+    let every = spec.every.map(|v| check::positive("checkpoint.every", v)).transpose()?;
+    let wall_minutes =
+        spec.wall_minutes.map(|v| check::positive("checkpoint.wall_minutes", v)).transpose()?;
+    let keep = match spec.keep {
+        None => None,
+        Some(k) if (1..=1_000_000).contains(&k) => Some(k as usize),
+        Some(k) => {
+            return Err(Invalid::new(
+                "checkpoint.keep",
+                format!("must be a whole number from 1 to 1000000, got {k}"),
+            ));
+        }
+    };
+    Ok(super::CheckpointKeys { every, wall_minutes, keep })
 }

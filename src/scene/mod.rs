@@ -54,6 +54,20 @@ pub struct Scene {
     pub estimate: estimate::RunEstimate,
     /// What the estimate's frame count needs, for another output interval.
     pub estimate_inputs: estimate::EstimateInputs,
+    /// When a run of it checkpoints (`[checkpoint]`): each `None` when not given.
+    pub checkpoint: CheckpointKeys,
+}
+
+/// The scene's `[checkpoint]` keys, checked: `every` (s) and `wall_minutes` finite and > 0,
+/// `keep` ≥ 1.
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct CheckpointKeys {
+    /// Simulated seconds between checkpoints.
+    pub every: Option<f64>,
+    /// Wall-clock minutes between checkpoints.
+    pub wall_minutes: Option<f64>,
+    /// Checkpoints kept.
+    pub keep: Option<usize>,
 }
 
 /// The largest scene file read (bytes): a scene is a page of TOML; even one listing a million

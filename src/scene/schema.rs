@@ -31,6 +31,19 @@ pub struct SceneFile {
     pub injectors: Vec<InjectorSpec>,
     #[serde(default)]
     pub outlets: Vec<OutletSpec>,
+    /// When a run checkpoints (docs/scene-format.md, `[checkpoint]`).
+    #[serde(default)]
+    pub checkpoint: CheckpointSpec,
+}
+
+/// `[checkpoint]`: `every` simulated seconds, every `wall_minutes` of wall-clock time, the
+/// newest `keep` kept. The command line's `--checkpoint-*` options override each.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct CheckpointSpec {
+    pub every: Option<f64>,
+    pub wall_minutes: Option<f64>,
+    pub keep: Option<i64>,
 }
 
 #[derive(Debug, Clone, Deserialize)]

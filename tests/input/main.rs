@@ -7,6 +7,7 @@
 #[path = "../common/mod.rs"]
 mod common;
 
+mod checkpoint_refusals;
 mod cli;
 mod docs_examples;
 mod field_bad_input;

@@ -9,6 +9,7 @@ mod common;
 #[path = "../outputs_common/mod.rs"]
 mod outputs_common;
 
+mod checkpoint_resume;
 mod output_disk_full;
 mod output_interrupt;
 mod output_mcap;
