@@ -2,7 +2,7 @@
 (scenes/contactor_poiseuille.toml, the Poiseuille version) against the water's counter-current flow rate, through the Python
 module.
 
-    pip install ./python matplotlib
+    pip install "./python[sweep]" matplotlib
     python examples/residence_time_sweep.py            # writes out/contactor_flow_sweep.png
 
 Each point is the shipped scene with one key changed, ``fluid.flow.mean_velocity`` (the mean
@@ -10,8 +10,8 @@ of the Poiseuille profile, downwards), run with fewer drops than the shipped sce
 sweep takes minutes: ``--rate`` drops/s injected for ``--injection`` s (default 250/s for 2 s,
 500 drops; the scene: 1500 over 6 s). Nine points took 311 s on the project's 2-core machine
 (release build, ``time python examples/residence_time_sweep.py``). The drops' residence times come from the top outlet (``Simulation.residence_times()``);
-the band is their 10th–90th percentiles. Runs go on threads (``--jobs``): the engine releases
-the GIL while it steps.
+the band is their 10th–90th percentiles. The points run as tasks of ``wetbounce.sweep`` on a
+Dask LocalCluster (one worker per core), or on the scheduler ``--scheduler`` names.
 """
 
 from __future__ import annotations
@@ -19,42 +19,17 @@ from __future__ import annotations
 import argparse
 import math
 import time
-from concurrent.futures import ThreadPoolExecutor
 from pathlib import Path
 
 import matplotlib
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
-import numpy as np  # noqa: E402
 import pandas as pd  # noqa: E402
 
 import wetbounce as wb  # noqa: E402
 
 ROOT = Path(__file__).resolve().parents[1]
-
-
-def run_point(scene: wb.Scene, mean_velocity: float) -> dict[str, float]:
-    """One run with the water's mean velocity (m/s, negative: downwards)."""
-    point = scene.with_values({"fluid.flow.mean_velocity": mean_velocity})
-    start = time.perf_counter()
-    sim = point.run(quiet=True)  # whole, no files, no bar (the points print their own lines)
-    rt = sim.residence_times()["residence_time"]
-    walls = sim.summary_frames()["walls"]
-    baffles = walls[walls.index.str.startswith(("disc", "doughnut"))]
-    summary = sim.summary()
-    radius = point["fluid.flow.radius"]
-    return {
-        "mean_velocity_mm_s": -mean_velocity * 1e3,
-        "flow_l_h": -mean_velocity * math.pi * radius**2 * 1e3 * 3600,
-        "injected": summary["particles"]["injected"],
-        "left": len(rt),
-        "mean_s": rt.mean(),
-        "p10_s": rt.quantile(0.1),
-        "p90_s": rt.quantile(0.9),
-        "baffle_impacts_per_drop": baffles["impacts"].sum() / max(summary["particles"]["injected"], 1),
-        "wall_time_s": time.perf_counter() - start,
-    }
 
 
 def main() -> None:
@@ -65,7 +40,8 @@ def main() -> None:
     ap.add_argument("--rate", type=float, default=250.0, help="drops injected per second")
     ap.add_argument("--injection", type=float, default=2.0, help="seconds of injection")
     ap.add_argument("--duration", type=float, default=14.0, help="simulated seconds per run")
-    ap.add_argument("--jobs", type=int, default=1, help="runs at once, on threads")
+    ap.add_argument("--folder", type=Path, default=Path("out/contactor_flow_sweep"), help="the sweep's folder")
+    ap.add_argument("--scheduler", help="a Dask scheduler's address (default: a LocalCluster here)")
     ap.add_argument("--out", type=Path, default=Path("out/contactor_flow_sweep.png"),
                     help="the picture (docs/figures/contactor_flow_sweep.png redraws docs/python.md's)")
     args = ap.parse_args()
@@ -77,19 +53,29 @@ def main() -> None:
     })
     # A Poiseuille profile needs a non-zero mean velocity: "still water" is a tiny one.
     velocities = [-max(v, 1e-6) * 1e-3 for v in args.velocities]
-    # One line per finished point, as it finishes: a point takes tens of seconds.
+    client = None
+    if args.scheduler:
+        from distributed import Client
+
+        client = Client(args.scheduler)
     start = time.perf_counter()
-    print(f"{len(velocities)} runs of {args.duration} s simulated, {args.jobs} at a time", flush=True)
-
-    def point(v: float) -> dict[str, float]:
-        row = run_point(base, v)
-        print(f"  {row['mean_velocity_mm_s']:5.1f} mm/s: mean residence {row['mean_s']:.2f} s "
-              f"({row['wall_time_s']:.0f} s; {time.perf_counter() - start:.0f} s since the start)", flush=True)
-        return row
-
-    with ThreadPoolExecutor(max_workers=args.jobs) as pool:
-        rows = list(pool.map(point, velocities))
-    table = pd.DataFrame(rows)
+    # Each point a task on Dask (a LocalCluster, one worker per core, unless --scheduler),
+    # checkpointed into --folder: run again, the finished points are skipped.
+    raw = wb.sweep(base, {"fluid.flow.mean_velocity": velocities}, client=client, out=args.folder)
+    print(f"{len(raw)} runs of {args.duration} s simulated in {time.perf_counter() - start:.0f} s")
+    radius = base["fluid.flow.radius"]
+    baffles = [c for c in raw.columns if c.startswith(("wall_disc", "wall_doughnut"))]
+    table = pd.DataFrame({
+        "mean_velocity_mm_s": -raw["fluid.flow.mean_velocity"] * 1e3,
+        "flow_l_h": -raw["fluid.flow.mean_velocity"] * math.pi * radius**2 * 1e3 * 3600,
+        "injected": raw["particles_injected"],
+        "left": raw["outlet_top_residence_count"],
+        "mean_s": raw["outlet_top_residence_mean"],
+        "p10_s": raw["outlet_top_residence_p10"],
+        "p90_s": raw["outlet_top_residence_p90"],
+        "baffle_impacts_per_drop": raw[baffles].sum(axis=1) / raw["particles_injected"].clip(lower=1),
+        "wall_time_s": raw["wall_time_s"],
+    })
     with pd.option_context("display.width", 160, "display.precision", 3):
         print(table.to_string(index=False))
 

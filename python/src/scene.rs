@@ -14,6 +14,10 @@ use wetbounce::scene::{LoadOptions, kind_reports};
 /// mesh files are looked for in `DIR`.
 const DICT_NAME: &str = "<dict>";
 
+/// What a pickled scene is loaded again from ([`Scene::_from_text`]'s arguments): its text,
+/// file and options.
+type Reduced = (String, PathBuf, bool, bool);
+
 /// A scene, loaded and validated exactly as ``wetbounce run`` and ``wetbounce check`` load
 /// one: from a TOML file (:meth:`load`) or from a dict with the same structure
 /// (:meth:`from_dict`). A bad scene raises :class:`SceneError` with the CLI's message, which
@@ -99,6 +103,32 @@ impl Scene {
     /// The scene as a dict (what the file or dict gave; defaults are not filled in).
     fn to_dict<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
         convert::table_to_py(py, &self.doc)
+    }
+
+    /// Pickling (Dask sends scenes to its workers, ``copy.deepcopy``): the scene's text, file
+    /// and options, loaded again by :meth:`_from_text`.
+    fn __reduce__<'py>(&self, py: Python<'py>) -> PyResult<(Bound<'py, PyAny>, Reduced)> {
+        let load = py.get_type::<Scene>().getattr("_from_text")?;
+        let o = self.options;
+        Ok((
+            load,
+            (self.scene.source.clone(), self.scene.path.clone(), o.allow_long_run, o.allow_large_memory),
+        ))
+    }
+
+    /// The scene of TOML ``text`` named ``path`` (its folder is where mesh and field files are
+    /// found), as :meth:`load` would load that file: what unpickling calls.
+    #[staticmethod]
+    fn _from_text(
+        text: &str,
+        path: PathBuf,
+        allow_long_run: bool,
+        allow_large_memory: bool,
+    ) -> PyResult<Scene> {
+        let options = LoadOptions { allow_long_run, allow_large_memory };
+        let scene = wetbounce::Scene::from_str_with(text, &path, options).map_err(|e| scene_error(&e))?;
+        let doc: Table = toml::from_str(text).map_err(|e| PyValueError::new_err(e.to_string()))?;
+        Ok(Scene { scene, doc, options })
     }
 
     /// The scene as TOML text, as it was loaded (for a changed scene or a dict, the text
@@ -222,6 +252,9 @@ impl Scene {
             max_spheres,
             name,
             quiet,
+            None,
+            None,
+            2,
         )
     }
 

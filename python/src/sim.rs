@@ -14,7 +14,7 @@ use std::time::{Duration, Instant};
 use wetbounce::contact::ContactEvent;
 use wetbounce::output::{Folder, Format, OutputError, Progress, RunSummary, Sink, Statistics};
 use wetbounce::pipeline::LostParticle;
-use wetbounce::run::{Driver, Ended, RunFailed, RunReport};
+use wetbounce::run::{CheckpointPolicy, Checkpoints, Driver, Ended, RunFailed, RunReport};
 use wetbounce::scene::LoadOptions;
 
 /// How long the engine steps with the GIL released before Python's signal handlers get a
@@ -77,6 +77,8 @@ pub struct Simulation {
     interrupted: bool,
     /// The files the last `run` wrote.
     files: Vec<PathBuf>,
+    /// Loaded from a checkpoint (`load`): what `run` needs to go on with its files.
+    resumed: Option<Box<wetbounce::run::checkpoint::Saved>>,
 }
 
 impl Simulation {
@@ -95,6 +97,7 @@ impl Simulation {
             frames: 0,
             interrupted: false,
             files: Vec::new(),
+            resumed: None,
         }
     }
 
@@ -145,6 +148,19 @@ impl Simulation {
         json
     }
 
+    /// Where `wetbounce run`'s loop would stand at the simulation's time: on its way to the
+    /// next output frame.
+    fn position(&self) -> wetbounce::run::RunPosition {
+        let t = self.sim.world.time;
+        wetbounce::run::RunPosition {
+            k: (t / self.output_interval * (1.0 + 1e-12)).floor() as u64 + 1,
+            frames: self.frames,
+            lost_reported: self.sim.record.lost.len() as u64,
+            at_frame: false,
+            wall_time: self.wall_time.as_secs_f64(),
+        }
+    }
+
     /// A column of `n` vectors as an `(n, 3)` array: one copy, moved into NumPy.
     fn vectors<'py>(py: Python<'py>, v: &[glam::DVec3]) -> Bound<'py, PyArray2<f64>> {
         let flat: Vec<f64> = v.iter().flat_map(|x| x.to_array()).collect();
@@ -163,11 +179,13 @@ impl Simulation {
             Option<String>,
         ),
         quiet: bool,
+        checkpoints: CheckpointPolicy,
     ) -> PyResult<Vec<PathBuf>> {
-        if self.sim.world.steps > 0 {
+        if self.sim.world.steps > 0 && self.resumed.is_none() {
             return Err(PyRuntimeError::new_err(format!(
-                "run: this simulation has already stepped to t = {} s; run() starts at t = 0 \
-                 (make a new one with Scene.simulation(), or continue with advance_to)",
+                "run: this simulation has already stepped to t = {} s; run() starts at t = 0, or \
+                 where a loaded checkpoint left its run (make a new one with Scene.simulation(), \
+                 or continue with advance_to)",
                 self.sim.world.time
             )));
         }
@@ -186,7 +204,13 @@ impl Simulation {
                 s
             }
         };
-        let formats = formats.unwrap_or_else(|| vec!["mcap".to_owned()]);
+        let resumed = self.resumed.take();
+        let interval = resumed.as_ref().map_or(interval, |r| r.scene.output_interval);
+        let formats = formats.unwrap_or_else(|| match &resumed {
+            Some(r) if !r.scene.formats.is_empty() => r.scene.formats.clone(),
+            _ => vec!["mcap".to_owned()],
+        });
+        let name = name.or_else(|| resumed.as_ref().map(|r| r.scene.stem.clone()));
         let stem = name.unwrap_or_else(|| {
             if self.scene_path.file_name().is_some_and(|n| n == "<dict>") {
                 "scene".to_owned()
@@ -209,8 +233,30 @@ impl Simulation {
         });
         // The CLI's driver (`wetbounce::run::Driver`): the same files, stale outputs removed,
         // the same summary.json.
-        let mut driver = Driver::new(folder.as_ref(), &parsed, self.duration, interval)
-            .map_err(|errors| output_error(&errors))?;
+        let driver = match (&resumed, folder.as_ref()) {
+            (Some(saved), Some(folder)) => Driver::resume(folder, &parsed, self.duration, saved),
+            _ => Driver::new(folder.as_ref(), &parsed, self.duration, interval),
+        };
+        let mut driver = driver.map_err(|errors| output_error(&errors))?;
+        if let Some(dir) = out.as_deref() {
+            let scene = wetbounce::run::checkpoint::SavedScene {
+                path: std::path::absolute(&self.scene_path).unwrap_or_else(|_| self.scene_path.clone()),
+                given: self.scene_path.clone(),
+                source: self.source.clone(),
+                output_interval: interval,
+                formats: parsed.iter().map(|f| f.name().to_string()).collect(),
+                stem: stem.clone(),
+                max_spheres,
+            };
+            let folder = dir.join("checkpoints");
+            if resumed.is_none() {
+                // An earlier run's checkpoints would resume it over this run's files.
+                for old in wetbounce::run::checkpoint::list(&folder) {
+                    let _ = std::fs::remove_file(old);
+                }
+            }
+            driver = driver.checkpointing(Checkpoints::new(checkpoints, &folder, scene, self.sim.world.time));
+        }
         for failed in &driver.stale().failed {
             warn(py, &failed.to_string())?;
         }
@@ -326,6 +372,57 @@ impl Simulation {
         Ok(())
     }
 
+    /// Saves the simulation as it stands to ``path``: a checkpoint of the same format as
+    /// ``wetbounce run --checkpoint-every`` writes (docs/output.md, "Checkpoints"), holding the
+    /// whole state — particles, contacts, injectors' generators, outlets — and the scene's text.
+    /// :meth:`load` (or ``wetbounce resume``) goes on from it exactly: advancing a loaded
+    /// simulation gives the bits the saved one would have. Written to a temporary file and
+    /// renamed. A file that cannot be written raises :class:`OutputError`.
+    fn save(&self, path: PathBuf) -> PyResult<()> {
+        let stem = self.scene_path.file_stem().map_or("scene".into(), |s| s.to_string_lossy().into_owned());
+        let scene = wetbounce::run::checkpoint::SavedScene {
+            path: std::path::absolute(&self.scene_path).unwrap_or_else(|_| self.scene_path.clone()),
+            given: self.scene_path.clone(),
+            source: self.source.clone(),
+            output_interval: self.output_interval,
+            formats: Vec::new(),
+            stem,
+            max_spheres: 1000,
+        };
+        let marks = [wetbounce::output::SinkMark::Statistics(self.collected.stats.clone())];
+        wetbounce::run::save_to(&path, &self.sim, &scene, self.position(), &marks)
+            .map_err(|e| output_error(&[OutputError::new(&path, e)]))
+    }
+
+    /// The simulation saved at ``path`` by :meth:`save`, or a checkpoint of ``wetbounce run``,
+    /// at the time it was saved: its scene rebuilt from the copy of its text inside (mesh and
+    /// field files are read again from the scene file's folder), its statistics kept; the
+    /// events of :meth:`events` are those from the load on. A file that is not a checkpoint, of
+    /// another format version, truncated or corrupted raises ``ValueError`` naming it and what
+    /// is wrong.
+    #[staticmethod]
+    fn load(path: PathBuf) -> PyResult<Simulation> {
+        let resumed =
+            wetbounce::run::resume::resume(&path, None).map_err(|e| PyValueError::new_err(e.to_string()))?;
+        let wetbounce::run::resume::Resumed { saved, scene, sim, .. } = resumed;
+        let stats = saved.statistics().cloned().unwrap_or_default();
+        Ok(Simulation {
+            sim,
+            scene_path: saved.scene.given.clone(),
+            source: scene.source.clone(),
+            duration: scene.duration,
+            output_interval: saved.scene.output_interval,
+            options: LoadOptions { allow_long_run: true, allow_large_memory: true },
+            collected: Collector { stats, ..Collector::default() },
+            lost_seen: saved.position.lost_reported as usize,
+            wall_time: Duration::from_secs_f64(saved.position.wall_time),
+            frames: saved.position.frames,
+            interrupted: false,
+            files: Vec::new(),
+            resumed: Some(Box::new(saved)),
+        })
+    }
+
     /// Runs the simulation from time 0 to the scene's duration, exactly as ``wetbounce run``
     /// does, and returns the files written. With ``out`` (a folder, created if needed), writes
     /// the CLI's files there: ``NAME.mcap`` (``"mcap"`` in ``formats``, the default),
@@ -344,11 +441,18 @@ impl Simulation {
     /// ``KeyboardInterrupt`` propagates. A file that cannot be written raises
     /// :class:`OutputError` (after the others are closed).
     ///
+    /// ``checkpoint_every`` (simulated s) and ``checkpoint_wall`` (wall-clock minutes) write
+    /// checkpoints into ``out/checkpoints/`` as ``wetbounce run --checkpoint-every`` does
+    /// (the newest ``checkpoint_keep`` kept); an interrupted run always writes one. A
+    /// simulation :meth:`load`-ed from a run's checkpoint goes on with that run: ``run(out)``
+    /// continues its files where the checkpoint left them, as ``wetbounce resume`` does, with
+    /// the checkpointed run's formats and interval unless given.
+    ///
     /// Returns the simulation itself, finished, as :meth:`Scene.run` returns its new one; the
     /// files written are :attr:`files`. A progress bar shows the simulated time (tqdm's, which
     /// draws in terminals and notebooks, when tqdm is installed; else the CLI's on a
     /// terminal's standard error); ``quiet=True`` leaves it out.
-    #[pyo3(signature = (out = None, *, formats = None, output_interval = None, max_spheres = 1000, name = None, quiet = false))]
+    #[pyo3(signature = (out = None, *, formats = None, output_interval = None, max_spheres = 1000, name = None, quiet = false, checkpoint_every = None, checkpoint_wall = None, checkpoint_keep = 2))]
     #[allow(clippy::too_many_arguments)]
     pub fn run(
         mut slf: PyRefMut<'_, Self>,
@@ -359,8 +463,26 @@ impl Simulation {
         max_spheres: usize,
         name: Option<String>,
         quiet: bool,
+        checkpoint_every: Option<f64>,
+        checkpoint_wall: Option<f64>,
+        checkpoint_keep: usize,
     ) -> PyResult<Py<Self>> {
-        slf.files = slf.run_whole(py, out, (formats, output_interval, max_spheres, name), quiet)?;
+        for (key, v) in [("checkpoint_every", checkpoint_every), ("checkpoint_wall", checkpoint_wall)] {
+            if let Some(x) = v
+                && !(x.is_finite() && x > 0.0)
+            {
+                return Err(PyValueError::new_err(format!("{key}: must be a finite number > 0, got {x}")));
+            }
+        }
+        if checkpoint_keep == 0 {
+            return Err(PyValueError::new_err("checkpoint_keep: must be at least 1, got 0"));
+        }
+        let policy = CheckpointPolicy {
+            every: checkpoint_every,
+            wall: checkpoint_wall.map(|m| Duration::from_secs_f64(m * 60.0)),
+            keep: checkpoint_keep,
+        };
+        slf.files = slf.run_whole(py, out, (formats, output_interval, max_spheres, name), quiet, policy)?;
         Ok(slf.into())
     }
 

@@ -9,6 +9,7 @@ with the rule of Legendre, Zenit, Daniel & Guiraud (2006).
     sim.positions, sim.states              # NumPy arrays
     sim.events()                           # pandas DataFrame, the rows of events.csv
     scene.run("out/toluene_drop", formats=["mcap", "csv"])   # the CLI's files
+    wetbounce.sweep(scene, {"kinds[0].restitution_max": [0.5, 0.9]})   # a Dask sweep
 
 The classes are implemented in Rust (the extension module ``wetbounce._wetbounce``).
 """
@@ -21,5 +22,6 @@ from ._wetbounce import (
     Simulation,
     __version__,
 )
+from .sweep import sweep
 
-__all__ = ["STATE_NAMES", "OutputError", "Scene", "SceneError", "Simulation", "__version__"]
+__all__ = ["STATE_NAMES", "OutputError", "Scene", "SceneError", "Simulation", "__version__", "sweep"]

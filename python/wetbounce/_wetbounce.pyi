@@ -107,6 +107,13 @@ class Simulation:
     def advance_to(self, t: float) -> None:
         """Steps until the simulation's time is ``t`` (s), the GIL released."""
 
+    def save(self, path: str | PathLike[str]) -> None:
+        """Saves the whole state to ``path``, a checkpoint ``load`` and ``wetbounce resume`` go on from exactly."""
+
+    @staticmethod
+    def load(path: str | PathLike[str]) -> Simulation:
+        """The simulation saved at ``path`` (by ``save`` or a run's checkpoint), at the time it was saved."""
+
     def run(
         self,
         out: str | PathLike[str] | None = None,
@@ -116,6 +123,9 @@ class Simulation:
         max_spheres: int = 1000,
         name: str | None = None,
         quiet: bool = False,
+        checkpoint_every: float | None = None,
+        checkpoint_wall: float | None = None,
+        checkpoint_keep: int = 2,
     ) -> Simulation:
         """Runs from time 0 to the scene's duration as ``wetbounce run`` does; with ``out``,
         writes its files there (``formats``: ``"mcap"``, ``"csv"``, ``"vtk"``, and ``"rrd"``
