@@ -2,9 +2,9 @@
 //! the shipped column's drops, with and without the history effect (issue 27, item 7).
 //!
 //! Run: `cargo run --release --bin checkpoint_cost -- [N...]` (default 100000 1000000). The
-//! column scene (scenes/column.toml) gets N toluene drops placed at random in the column (the
-//! state's size does not depend on where they are), with its own effects, then with `history =
-//! {}` added; a run of 20 steps gives the world its contacts and neighbour list, then a
+//! column scene (scenes/column.toml) gets N toluene drops on a lattice at 3 d spacing (its
+//! walls and injector taken out: 10⁶ drops do not fit in it), with its own effects, then with
+//! `history = {}` added; a run of 20 steps gives the world its neighbour list, then a
 //! checkpoint is written (`run::save_to`: encode, zstd, write, sync) and read back
 //! (`checkpoint::read`: read, checks, decompress, decode), each timed on the wall clock.
 
@@ -31,15 +31,23 @@ fn main() {
                 text.clone()
             };
             let mut scene = Scene::from_str(&source, &path).expect("the column loads");
+            // A lattice at 3 d spacing, clear of each other, with the walls and the injector
+            // taken out (10⁶ drops do not fit in the column): the state per particle is the
+            // column's drops', its contacts and neighbour list those of a dilute swarm.
+            scene.setup.walls.clear();
+            scene.setup.injectors.clear();
+            scene.setup.outlets.clear();
+            // Sizes, places and velocities drawn (a lattice of equal drops at rest compresses to
+            // nothing, which no real state does).
             let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(1);
+            let mut draw = |lo: f64, hi: f64| lo + (hi - lo) * rng.random::<f64>();
+            let side = (n as f64).cbrt().ceil() as usize;
             for i in 0..n {
-                let (r, phi, z) = (
-                    0.02 * rng.random::<f64>().sqrt(),
-                    rng.random::<f64>() * std::f64::consts::TAU,
-                    0.45 * rng.random::<f64>(),
-                );
-                let pos = DVec3::new(r * phi.cos(), r * phi.sin(), 0.02 + z);
-                scene.particles.push(i as u32, 0, 2.5e-3, pos, DVec3::ZERO);
+                let (a, b, c) = (i % side, (i / side) % side, i / (side * side));
+                let jitter = DVec3::new(draw(-1.0, 1.0), draw(-1.0, 1.0), draw(-1.0, 1.0)) * 1e-3;
+                let pos = DVec3::new(a as f64, b as f64, c as f64) * 7.5e-3 + jitter;
+                let vel = DVec3::new(draw(-0.02, 0.02), draw(-0.02, 0.02), draw(0.0, 0.1));
+                scene.particles.push(i as u32, 0, draw(2.0e-3, 3.0e-3), pos, vel);
             }
             let mut sim = scene.take_simulation().expect("memory for the run");
             sim.run_steps(20, scene.setup.dt);

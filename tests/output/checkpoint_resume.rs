@@ -308,3 +308,23 @@ fn a_run_stopped_by_sigterm_and_resumed_ends_as_the_run_never_stopped() {
     }
     assert_eq!(summary(&whole), summary(&stopped));
 }
+
+proptest::proptest! {
+    #![proptest_config(proptest::prelude::ProptestConfig { cases: 8, ..Default::default() })]
+
+    /// Any cut point: checkpoints every `every` (s) of the rising column (injections, holds
+    /// under the plate) and a resume from the one at `at` (a fraction of the run), on 1 or 2
+    /// threads, give the whole run's files.
+    #[test]
+    fn a_resume_from_any_cut_point_is_exact(every in 0.011f64..0.09, at in 0.0f64..1.0) {
+        let dir = tempfile::tempdir().unwrap();
+        let whole = dir.path().join("whole");
+        let source = scene("column", Some(0.3));
+        let checkpoints = run_whole("column", &source, &[Format::Csv], every, &whole);
+        let k = ((at * (checkpoints.len() - 1) as f64) as usize).min(checkpoints.len() - 2);
+        let resumed = dir.path().join("resumed");
+        let threads = 1 + k % 2;
+        resume_into(&checkpoints[k], &resumed, threads);
+        assert_same_outputs(&whole, &resumed, &format!("column cut at checkpoint {k}, every {every} s"));
+    }
+}
