@@ -99,59 +99,9 @@ impl Folder<'_> {
     /// that this run does not write (`output::stale`): after the sinks exist, so that a run that
     /// cannot start removes nothing.
     pub fn create(&self, formats: &[Format]) -> Result<Outputs, Vec<OutputError>> {
-        let out = self.out;
-        std::fs::create_dir_all(out)
-            .map_err(|e| vec![OutputError::new(out, format!("cannot create the output folder: {e}"))])?;
-        let mut sinks: Vec<Box<dyn Sink + Send>> = Vec::new();
-        let mut written: Vec<PathBuf> = Vec::new();
-        let (stem, rotation) = (self.stem, self.rotation);
-        let created = (|| -> Result<(), OutputError> {
-            if formats.contains(&Format::Mcap) {
-                let file = out.join(format!("{stem}.mcap"));
-                let options = McapOptions {
-                    max_spheres: self.max_spheres,
-                    scene_path: self.scene_path.display().to_string(),
-                    scene_source: self.scene_source.to_owned(),
-                };
-                sinks.push(Box::new(McapSink::create_for(&file, options, rotation)?));
-                written.push(file);
-            }
-            if formats.contains(&Format::Csv) {
-                let t = out.join("trajectories.csv");
-                sinks.push(Box::new(TrajectoryCsv::create_for(&t, rotation)?));
-                written.push(t);
-            }
-            if formats.contains(&Format::Vtk) {
-                let vtk = VtkSink::create(out, stem)?;
-                written.push(vtk.pvd_path().to_path_buf());
-                written.push(vtk.walls_path().to_path_buf());
-                sinks.push(Box::new(vtk));
-            }
-            // The events are one table for both: ParaView opens events.csv as a table it can plot.
-            if formats.contains(&Format::Csv) || formats.contains(&Format::Vtk) {
-                let e = out.join("events.csv");
-                sinks.push(Box::new(EventCsv::create_for(&e, rotation)?));
-                written.push(e);
-            }
-            #[cfg(feature = "rerun")]
-            if formats.contains(&Format::Rrd) {
-                let file = out.join(format!("{stem}.rrd"));
-                sinks.push(Box::new(super::RerunSink::create(&file, stem, self.scene_source)?));
-                written.push(file);
-            }
-            Ok(())
-        })();
-        match created {
-            Ok(()) => {
-                let stale = stale::remove(out, stem, &written);
-                Ok(Outputs { sinks, written, stale })
-            }
-            Err(e) => {
-                let mut errors = vec![e];
-                errors.extend(sinks.iter_mut().filter_map(|s| s.finish().err()));
-                Err(errors)
-            }
-        }
+        let mut outputs = self.open(formats, &[])?;
+        outputs.stale = stale::remove(self.out, self.stem, &outputs.written);
+        Ok(outputs)
     }
 }
 
@@ -163,6 +113,13 @@ impl Folder<'_> {
     /// for without a mark (added at resume) starts a new file as `create` does. No stale file
     /// is removed: every file of the folder is the run's.
     pub fn resume(&self, formats: &[Format], marks: &[SinkMark]) -> Result<Outputs, Vec<OutputError>> {
+        self.open(formats, marks)
+    }
+
+    /// The sinks of `formats`, each going on from its mark in `marks` or, without one, a new
+    /// file; on an error those opened are closed (their errors returned too) rather than
+    /// dropped.
+    fn open(&self, formats: &[Format], marks: &[SinkMark]) -> Result<Outputs, Vec<OutputError>> {
         let out = self.out;
         std::fs::create_dir_all(out)
             .map_err(|e| vec![OutputError::new(out, format!("cannot create the output folder: {e}"))])?;

@@ -52,57 +52,11 @@ impl Feature for Heat {
     }
 }
 
-/// Toluene drops injected at 2000/s into a 30 mm box of water, rising through an outlet plane
-/// 20 mm above: particles are added, removed and renumbered at most steps.
-const RISING: &str = r#"
-[simulation]
-dt = 1e-3
-duration = 0.6
-output_interval = 0.1
-
-[fluid]
-density = 997.0
-viscosity = 0.89e-3
-
-[effects]
-gravity = {}
-buoyancy = {}
-drag = {}
-added_mass = {}
-contact_time = {}
-
-[[kinds]]
-name = "toluene"
-type = "drop"
-density = 860.0
-surface_tension = 0.026
-restitution_max = 0.91
-
-[[walls]]
-name = "tank"
-type = "box"
-min = [-0.015, -0.015, 0.0]
-max = [0.015, 0.015, 0.05]
-inside = true
-
-[[injectors]]
-kind = "toluene"
-rate = 2000.0
-region = { type = "box", min = [-0.012, -0.012, 0.002], max = [0.012, 0.012, 0.006] }
-diameter = { distribution = "log_normal", median = 2.5e-3, sigma = 0.2, min = 1.5e-3, max = 4e-3 }
-seed = 11
-stop = 0.4
-
-[[outlets]]
-name = "top"
-type = "plane"
-point = [0.0, 0.0, 0.02]
-normal = [0.0, 0.0, -1.0]
-"#;
-
 #[test]
 fn a_feature_written_in_one_place_has_its_columns_carried_through_injection_outlets_and_commit() {
-    let mut scene = common::scene(RISING);
+    // Drops injected at 2000/s into a 30 mm box of water, rising through an outlet plane 20 mm
+    // above: particles are added, removed and renumbered at most steps.
+    let mut scene = common::scene(crate::inject_outlets_counts::RISING);
     // Toluene: ρp c_p = 860 × 1700 J/(m³ K), k = 0.6 W/(m K) for the liquid around it.
     let heat = Heat { liquid: 293.0, injected: 333.0, tau_per_d2: 860.0 * 1700.0 / (12.0 * 0.6) };
     // The one registration line (an effect does it in its `apply`).

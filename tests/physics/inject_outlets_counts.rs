@@ -7,7 +7,7 @@ use wetbounce::Simulation;
 
 /// Drops injected at 2000/s into the bottom of a 30 mm water box, rising through an outlet
 /// plane 20 mm above; dense enough that some injections must be redrawn.
-const RISING: &str = r#"
+pub(crate) const RISING: &str = r#"
 [simulation]
 dt = 1e-3
 duration = 1.0
