@@ -8,6 +8,12 @@
    times, the same positions as trajectories.csv.
 3. Runs `rerun mcap convert` (the `rerun-sdk` package's CLI) and `rerun rrd print`, and
    asserts that /particles became Points3D positions, one row per frame.
+4. A run in two parts: the scene run to half its duration with a checkpoint at the end, then
+   `wetbounce resume --scene` to its whole duration, which writes `<stem>.part2.mcap`. The two
+   parts read with the `mcap` library hold one /particles message per frame of the whole
+   trajectories.csv, in increasing time; converted by `rerun mcap convert` with one
+   `--recording-id` and merged by `rerun rrd merge`, they are one recording with as many
+   Points3D rows (docs/output.md, "Checkpoints").
 
 Needs: pip install -r tools/check_mcap.requirements.txt (mcap, mcap-protobuf-support,
 rerun-sdk). Usage: python3 tools/check_mcap.py [--wetbounce target/debug/wetbounce]
@@ -122,6 +128,57 @@ def check_with_rerun(path, frames, rerun):
     print(f"check_mcap: rerun mcap convert: /particles became Points3D positions, {rows} frames")
 
 
+def check_resumed_parts(wetbounce, scene, rerun, tmp):
+    """Item 4 of the module doc: a run in two parts opens as one in the viewers' readers."""
+    text = scene.read_text() if scene.is_absolute() else (ROOT / scene).read_text()
+    m = re.search(r"(?m)^duration\s*=\s*([0-9.eE+-]+)", text)
+    check(m is not None, f"{scene}: no duration line")
+    half = float(m.group(1)) / 2
+    first = tmp / f"{scene.stem}.toml"
+    first.write_text(text[: m.start(1)] + repr(half) + text[m.end(1) :])
+    whole = tmp / "whole.toml"
+    whole.write_text(text)
+    out = tmp / "parts"
+    cmd = [str(wetbounce), "run", str(first), "--formats", "mcap,csv", "--quiet", "--out", str(out),
+           "--checkpoint-every", repr(half)]
+    done = subprocess.run(cmd, cwd=ROOT, capture_output=True, text=True)
+    check(done.returncode == 0, f"{' '.join(cmd)} exited {done.returncode}: {done.stderr}")
+    checkpoints = sorted((out / "checkpoints").glob("checkpoint-*.wbck"))
+    check(len(checkpoints) >= 1, f"no checkpoint in {out}/checkpoints")
+    cmd = [str(wetbounce), "resume", str(checkpoints[-1]), "--scene", str(whole), "--quiet"]
+    done = subprocess.run(cmd, cwd=ROOT, capture_output=True, text=True)
+    check(done.returncode == 0, f"{' '.join(cmd)} exited {done.returncode}: {done.stderr}")
+    parts = [out / f"{scene.stem}.mcap", out / f"{scene.stem}.part2.mcap"]
+    times = []
+    for p in parts:
+        with open(p, "rb") as f:
+            times += [m.log_time for _, ch, m in make_reader(f).iter_messages() if ch.topic == "/particles"]
+    with open(out / "trajectories.csv", newline="") as f:
+        frames = len({row["t"] for row in csv.DictReader(f)})
+    check(len(times) == frames, f"the parts hold {len(times)} /particles messages, trajectories.csv {frames} frames")
+    check(all(a < b for a, b in zip(times, times[1:])), "the parts' /particles times do not increase")
+    env = dict(os.environ, RERUN_ANALYTICS="0")
+    rrds = []
+    for p in parts:
+        rrd = p.with_suffix(".rrd")
+        cmd = [rerun, "mcap", "convert", str(p), "--recording-id", "run", "--application-id", scene.stem, "-o", str(rrd)]
+        done = subprocess.run(cmd, capture_output=True, text=True, env=env)
+        check(done.returncode == 0, f"{' '.join(cmd)} exited {done.returncode}: {done.stderr}")
+        rrds.append(str(rrd))
+    merged = out / "merged.rrd"
+    done = subprocess.run([rerun, "rrd", "merge", *rrds, "-o", str(merged)], capture_output=True, text=True, env=env)
+    check(done.returncode == 0, f"rerun rrd merge exited {done.returncode}: {done.stderr}")
+    done = subprocess.run([rerun, "rrd", "print", str(merged)], capture_output=True, text=True, env=env)
+    check(done.returncode == 0, f"rerun rrd print exited {done.returncode}: {done.stderr}")
+    rows = 0
+    for line in done.stdout.splitlines():
+        m = re.search(r"with (\d+) rows .* - /particles - data columns: \[(.*)\]", line)
+        if m and "Points3D:positions" in m.group(2):
+            rows += int(m.group(1))
+    check(rows == frames, f"the merged recording has {rows} rows of /particles, expected {frames}")
+    print(f"check_mcap: a run resumed into {parts[1].name}: {frames} frames over both parts, one rerun recording")
+
+
 def main():
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--wetbounce", default=str(ROOT / "target/debug/wetbounce"))
@@ -133,6 +190,7 @@ def main():
         path = run_scene(args.wetbounce, Path(args.scene), out)
         frames = check_with_mcap_library(path, out)
         check_with_rerun(path, frames, args.rerun)
+        check_resumed_parts(args.wetbounce, Path(args.scene), args.rerun, out)
     print("check_mcap: OK")
 
 
