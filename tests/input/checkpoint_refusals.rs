@@ -154,3 +154,61 @@ fn reference() -> Vec<u8> {
         })
         .clone()
 }
+
+#[test]
+fn wall_clock_checkpoints_are_taken_and_only_the_newest_kept() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("out");
+    // Every 6 ms of wall clock: the 5000 steps of the glass bead take several times that.
+    let run = Command::new(env!("CARGO_BIN_EXE_wetbounce"))
+        .args(["run", "scenes/glass_bead.toml", "--formats", "csv", "--quiet", "--checkpoint-wall", "1e-4"])
+        .args(["--checkpoint-keep", "3", "--out"])
+        .arg(&out)
+        .current_dir(env!("CARGO_MANIFEST_DIR"))
+        .output()
+        .unwrap();
+    assert!(run.status.success(), "{}", String::from_utf8_lossy(&run.stderr));
+    let kept = checkpoint::list(&out.join("checkpoints"));
+    assert_eq!(kept.len(), 3, "{kept:?}");
+    // The last is the run's end: resumed, nothing is left to run and the files stay whole.
+    let (_, saved) = checkpoint::read(kept.last().unwrap()).unwrap();
+    assert_eq!(saved.world.time, 1.0);
+}
+
+#[test]
+fn bad_checkpoint_options_and_keys_are_refused_naming_them() {
+    let dir = tempfile::tempdir().unwrap();
+    let run = |args: &[&str]| {
+        Command::new(env!("CARGO_BIN_EXE_wetbounce"))
+            .args(args)
+            .current_dir(env!("CARGO_MANIFEST_DIR"))
+            .output()
+            .unwrap()
+    };
+    let out = dir.path().join("out");
+    let out = out.to_str().unwrap();
+    for (flag, value, says) in [
+        ("--checkpoint-every", "-1", "--checkpoint-every: must be a finite number > 0, got -1"),
+        ("--checkpoint-wall", "NaN", "--checkpoint-wall: must be a finite number > 0, got NaN"),
+        ("--checkpoint-keep", "0", "--checkpoint-keep"),
+    ] {
+        let given = format!("{flag}={value}");
+        let r = run(&["run", "scenes/glass_bead.toml", "--quiet", "--out", out, &given]);
+        let err = String::from_utf8_lossy(&r.stderr);
+        assert!(!r.status.success() && err.contains(says), "{flag} {value}: {err}");
+    }
+    for (key, value, says) in [
+        ("every", "0.0", "checkpoint.every: must be > 0, got 0"),
+        ("wall_minutes", "-3.0", "checkpoint.wall_minutes: must be > 0, got -3"),
+        ("keep", "0", "checkpoint.keep: must be a whole number from 1 to 1000000, got 0"),
+        ("often", "1.0", "often"),
+    ] {
+        let scene = scene_copy(dir.path(), "bad.toml", &[]);
+        let mut text = std::fs::read_to_string(&scene).unwrap();
+        text.push_str(&format!("\n[checkpoint]\n{key} = {value}\n"));
+        std::fs::write(&scene, text).unwrap();
+        let r = run(&["check", scene.to_str().unwrap()]);
+        let err = String::from_utf8_lossy(&r.stderr);
+        assert!(!r.status.success() && err.contains("bad.toml") && err.contains(says), "{key}: {err}");
+    }
+}
