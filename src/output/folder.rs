@@ -136,7 +136,7 @@ impl Folder<'_> {
             marks
                 .iter()
                 .find_map(|m| match m {
-                    SinkMark::Parts { format: f, parts } if f == format => Some(*parts),
+                    SinkMark::Parts { format: f, parts, .. } if f == format => Some(*parts),
                     _ => None,
                 })
                 .unwrap_or(0)
@@ -189,8 +189,25 @@ impl Folder<'_> {
             }
             #[cfg(feature = "rerun")]
             if formats.contains(&Format::Rrd) {
-                let file = out.join(part_name(parts("rrd") + 1, "rrd"));
-                sinks.push(Box::new(super::RerunSink::create(&file, stem, self.scene_source)?));
+                let rrd = marks.iter().find_map(|m| match m {
+                    SinkMark::Parts { format, parts, recording } if format == "rrd" => {
+                        Some((*parts, recording))
+                    }
+                    _ => None,
+                });
+                let (file, sink) = match rrd {
+                    Some((parts, recording)) => {
+                        let file = out.join(part_name(parts + 1, "rrd"));
+                        let part = (parts + 1, recording.as_str());
+                        let sink = super::RerunSink::create_part(&file, stem, self.scene_source, part)?;
+                        (file, sink)
+                    }
+                    None => {
+                        let file = out.join(part_name(1, "rrd"));
+                        (file.clone(), super::RerunSink::create(&file, stem, self.scene_source)?)
+                    }
+                };
+                sinks.push(Box::new(sink));
                 written.push(file);
             }
             Ok(())

@@ -491,7 +491,7 @@ impl Sink for McapSink {
     /// Writes the summary and footer, and syncs the file. A file that failed is left as it is:
     /// its error was reported, and the writer refuses to go on after a failed write.
     fn mark(&mut self) -> Result<Option<SinkMark>, OutputError> {
-        Ok(Some(SinkMark::Parts { format: "mcap".into(), parts: self.part }))
+        Ok(Some(SinkMark::Parts { format: "mcap".into(), parts: self.part, recording: String::new() }))
     }
 
     fn finish(&mut self) -> Result<(), OutputError> {

@@ -83,10 +83,13 @@ pub enum SinkMark {
     /// An output that a resumed run starts afresh as a new part (`<stem>.part<N>.mcap`): the
     /// parts written so far.
     Parts {
-        /// The format (`mcap`).
+        /// The format (`mcap`, `rrd`).
         format: String,
         /// Files written so far, this one included.
         parts: u32,
+        /// The recording every part belongs to (rerun's recording id; empty for an MCAP), so
+        /// that a viewer shows the parts as one run.
+        recording: String,
     },
     /// The ParaView collection: where its closing tags start, the frames written, whether the
     /// walls' file is.

@@ -8,7 +8,7 @@
 //! - `scene`: the scene file's text (static), so the recording carries its inputs.
 
 use super::geometry::{self, Solid, WALL_COLOR};
-use super::{OutputError, Sink};
+use super::{OutputError, Sink, SinkMark};
 use crate::contact::ContactEvent;
 use crate::pipeline::{LostParticle, Simulation};
 use glam::{DQuat, DVec3};
@@ -22,6 +22,10 @@ pub struct RerunSink {
     path: PathBuf,
     rec: Option<rerun::RecordingStream>,
     walls_written: bool,
+    /// Which part of the run this file is (`<stem>.part<N>.rrd` from 2 on), and the recording
+    /// id every part shares ([`SinkMark::Parts`]).
+    part: u32,
+    recording: String,
 }
 
 fn f3(v: DVec3) -> [f32; 3] {
@@ -38,14 +42,30 @@ fn rgba(c: [f32; 4]) -> rerun::Color {
 }
 
 impl RerunSink {
-    /// Creates the recording file at `path` for the scene `name`, with the scene's text.
+    /// Creates the recording file at `path` for the scene `name`, with the scene's text: a new
+    /// recording (its id made from the name and the clock).
     pub fn create(path: impl Into<PathBuf>, name: &str, scene_source: &str) -> Result<Self, OutputError> {
+        let now = std::time::SystemTime::now().duration_since(std::time::UNIX_EPOCH).unwrap_or_default();
+        let recording = format!("{name}-{}", now.as_nanos());
+        Self::create_part(path, name, scene_source, (1, &recording))
+    }
+
+    /// The file of part `part` of the run whose recording id is `recording` (a resumed run goes
+    /// on in `<stem>.part<N>.rrd`): the viewer merges the parts' files into one recording.
+    pub fn create_part(
+        path: impl Into<PathBuf>,
+        name: &str,
+        scene_source: &str,
+        (part, recording): (u32, &str),
+    ) -> Result<Self, OutputError> {
         let path = path.into();
         let rec = rerun::RecordingStreamBuilder::new("wetbounce")
             .recording_name(name)
+            .recording_id(recording)
             .save(&path)
             .map_err(|e| OutputError::create(&path, e))?;
-        let mut sink = RerunSink { path, rec: Some(rec), walls_written: false };
+        let mut sink =
+            RerunSink { path, rec: Some(rec), walls_written: false, part, recording: recording.to_string() };
         sink.log_static("scene", &rerun::TextDocument::new(scene_source))?;
         // Scenes put gravity along −z.
         sink.log_static("/", &rerun::ViewCoordinates::RIGHT_HAND_Z_UP())?;
@@ -156,6 +176,15 @@ impl Sink for RerunSink {
         }
         self.rec()?.set_duration_secs(TIMELINE, sim.world.time);
         Ok(())
+    }
+
+    fn mark(&mut self) -> Result<Option<SinkMark>, OutputError> {
+        self.rec()?.flush_blocking().map_err(|e| OutputError::write(&self.path, e))?;
+        Ok(Some(SinkMark::Parts {
+            format: "rrd".into(),
+            parts: self.part,
+            recording: self.recording.clone(),
+        }))
     }
 
     fn finish(&mut self) -> Result<(), OutputError> {

@@ -191,7 +191,7 @@ pub fn carry_outputs(from: &Path, to: &Path, saved: &Saved) -> std::io::Result<(
                     std::fs::copy(from.join(&walls), to.join(&walls))?;
                 }
             }
-            SinkMark::Parts { format, parts } => {
+            SinkMark::Parts { format, parts, .. } => {
                 for part in 1..=*parts {
                     let name = if part == 1 {
                         format!("{stem}.{format}")
