@@ -111,11 +111,8 @@ def check_with_mcap_library(path, out):
     return frames
 
 
-def check_with_rerun(path, frames, rerun):
-    rrd = path.with_suffix(".converted.rrd")
-    env = dict(os.environ, RERUN_ANALYTICS="0")
-    done = subprocess.run([rerun, "mcap", "convert", str(path), "-o", str(rrd)], capture_output=True, text=True, env=env)
-    check(done.returncode == 0, f"rerun mcap convert exited {done.returncode}: {done.stderr}")
+def particle_rows(rerun, rrd, env):
+    """Rows of Points3D positions on /particles in a recording (`rerun rrd print`), and the print."""
     done = subprocess.run([rerun, "rrd", "print", str(rrd)], capture_output=True, text=True, env=env)
     check(done.returncode == 0, f"rerun rrd print exited {done.returncode}: {done.stderr}")
     # Lines like "Chunk(...) with 1001 rows (110 KiB) - /particles - data columns: [... Points3D:positions]"
@@ -124,7 +121,16 @@ def check_with_rerun(path, frames, rerun):
         m = re.search(r"with (\d+) rows .* - /particles - data columns: \[(.*)\]", line)
         if m and "Points3D:positions" in m.group(2):
             rows += int(m.group(1))
-    check(rows == frames, f"rerun turned /particles into {rows} rows of Points3D positions, expected {frames}:\n{done.stdout}")
+    return rows, done.stdout
+
+
+def check_with_rerun(path, frames, rerun):
+    rrd = path.with_suffix(".converted.rrd")
+    env = dict(os.environ, RERUN_ANALYTICS="0")
+    done = subprocess.run([rerun, "mcap", "convert", str(path), "-o", str(rrd)], capture_output=True, text=True, env=env)
+    check(done.returncode == 0, f"rerun mcap convert exited {done.returncode}: {done.stderr}")
+    rows, printed = particle_rows(rerun, rrd, env)
+    check(rows == frames, f"rerun turned /particles into {rows} rows of Points3D positions, expected {frames}:\n{printed}")
     print(f"check_mcap: rerun mcap convert: /particles became Points3D positions, {rows} frames")
 
 
@@ -168,13 +174,7 @@ def check_resumed_parts(wetbounce, scene, rerun, tmp):
     merged = out / "merged.rrd"
     done = subprocess.run([rerun, "rrd", "merge", *rrds, "-o", str(merged)], capture_output=True, text=True, env=env)
     check(done.returncode == 0, f"rerun rrd merge exited {done.returncode}: {done.stderr}")
-    done = subprocess.run([rerun, "rrd", "print", str(merged)], capture_output=True, text=True, env=env)
-    check(done.returncode == 0, f"rerun rrd print exited {done.returncode}: {done.stderr}")
-    rows = 0
-    for line in done.stdout.splitlines():
-        m = re.search(r"with (\d+) rows .* - /particles - data columns: \[(.*)\]", line)
-        if m and "Points3D:positions" in m.group(2):
-            rows += int(m.group(1))
+    rows, _ = particle_rows(rerun, merged, env)
     check(rows == frames, f"the merged recording has {rows} rows of /particles, expected {frames}")
     print(f"check_mcap: a run resumed into {parts[1].name}: {frames} frames over both parts, one rerun recording")
 
