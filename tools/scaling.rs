@@ -12,6 +12,9 @@
 //! - `paper`: the same with L06's physics — Schiller–Naumann drag, added mass, RK2;
 //! - `paper-no-<effect>`: `paper` with one effect left out (and `paper-no-pairs` without
 //!   particle–particle contacts), to show a scene pays only for what it names;
+//! - `paper-lubrication`, `paper-history`: `paper` with the wall-lubrication effect (roughness
+//!   1 µm on the beads and the box; the lattice fills the box sideways, so its outer layers
+//!   fly within the film's reach) or the history effect at its defaults: what each costs;
 //! - `pairs5`: two bead densities at 5 % volume fraction, settling at different speeds, so the
 //!   neighbour list and pair contacts are exercised;
 //! - `pairs5-friction`: `pairs5` with friction on both kinds (μ = 0.3, β0 = 0.35, μ_r = 0.01,
@@ -158,6 +161,13 @@ fn scene(case: &str, n: usize) -> Scene {
     if paper || pairs5 {
         effects.push("added_mass = {}");
     }
+    let lubricated = case == "paper-lubrication";
+    if lubricated {
+        effects.push("wall_lubrication = {}");
+    }
+    if case == "paper-history" {
+        effects.push("history = {}");
+    }
     if let Some(off) = case.strip_prefix("paper-no-") {
         effects.retain(|e| !e.starts_with(off));
     }
@@ -200,6 +210,9 @@ fn scene(case: &str, n: usize) -> Scene {
         if friction {
             text += "friction = 0.3\ntangential_restitution = 0.35\nrolling_friction = 0.01\n";
         }
+        if lubricated {
+            text += "roughness = 1e-6\n";
+        }
     }
     text += &format!(
         "[[walls]]\nname = \"box\"\ntype = \"box\"\nmin = [0.0, 0.0, 0.0]\nmax = [{}, {}, {}]\ninside = true\n",
@@ -207,6 +220,9 @@ fn scene(case: &str, n: usize) -> Scene {
         extent + beside,
         height
     );
+    if lubricated {
+        text += "material = { youngs_modulus = 6e9, poisson_ratio = 0.3, roughness = 1e-6 }\n";
+    }
     // Layers alternate between the two kinds in `pairs5`, so they settle through each other.
     let layers = side as usize;
     for layer in 0..layers {
@@ -262,6 +278,8 @@ fn main() {
         "paper-no-buoyancy",
         "paper-no-drag",
         "paper-no-pairs",
+        "paper-lubrication",
+        "paper-history",
         "pairs5",
         "pairs5-friction",
         "fines",

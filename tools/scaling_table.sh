@@ -9,7 +9,7 @@ B=${SCALING_BIN:-target/release/scaling}
 out=${OUT:-.}
 csv=$out/scaling16.csv
 echo "case,n,threads,steps,wall_s,particle_steps_per_s" > "$csv"
-for case in dilute paper pairs5 pairs5-friction poiseuille field field-vtu; do
+for case in dilute paper paper-lubrication paper-history pairs5 pairs5-friction poiseuille field field-vtu; do
   for t in 1 2 4 8 16; do
     SCALING_N=100000 SCALING_THREADS=$t SCALING_STEPS=100 timeout 90 "$B" - 100000 "$case" \
       2>>"$out/stderr.txt" | tail -n +2 >> "$csv"
