@@ -78,19 +78,12 @@ struct CheckpointArgs {
 impl CheckpointArgs {
     /// The policy: these options over the scene's keys.
     fn policy(&self, scene: &wetbounce::scene::CheckpointKeys) -> Result<CheckpointPolicy, String> {
-        let positive = |flag: &str, v: Option<f64>| match v {
-            Some(x) if !(x.is_finite() && x > 0.0) => {
-                Err(format!("{flag}: must be a finite number > 0, got {x}"))
-            }
-            v => Ok(v),
-        };
-        let every = positive("--checkpoint-every", self.checkpoint_every)?.or(scene.every);
-        let minutes = positive("--checkpoint-wall", self.checkpoint_wall)?.or(scene.wall_minutes);
-        Ok(CheckpointPolicy {
-            every,
-            wall: minutes.map(|m| std::time::Duration::from_secs_f64(m * 60.0)),
-            keep: self.checkpoint_keep.map(|k| k as usize).or(scene.keep).unwrap_or(2),
-        })
+        let given = (
+            self.checkpoint_every.or(scene.every),
+            self.checkpoint_wall.or(scene.wall_minutes),
+            self.checkpoint_keep.map(|k| k as usize).or(scene.keep),
+        );
+        CheckpointPolicy::checked(given, ["--checkpoint-every", "--checkpoint-wall", "--checkpoint-keep"])
     }
 }
 
@@ -324,7 +317,7 @@ fn resume_run(args: &ResumeArgs) -> Result<(String, ExitCode), String> {
     // A new output interval (`--scene`) counts frames from the checkpoint's time on.
     if scene.output_interval != saved.scene.output_interval {
         let t = sim.world.time;
-        saved.position.k = (t / scene.output_interval * (1.0 + 1e-12)).floor() as u64 + 1;
+        saved.position.k = wetbounce::run::RunPosition::next_index(t, scene.output_interval);
         saved.position.at_frame = false;
         saved.scene.output_interval = scene.output_interval;
     }

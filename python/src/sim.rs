@@ -153,7 +153,7 @@ impl Simulation {
     fn position(&self) -> wetbounce::run::RunPosition {
         let t = self.sim.world.time;
         wetbounce::run::RunPosition {
-            k: (t / self.output_interval * (1.0 + 1e-12)).floor() as u64 + 1,
+            k: wetbounce::run::RunPosition::next_index(t, self.output_interval),
             frames: self.frames,
             lost_reported: self.sim.record.lost.len() as u64,
             at_frame: false,
@@ -467,21 +467,10 @@ impl Simulation {
         checkpoint_wall: Option<f64>,
         checkpoint_keep: usize,
     ) -> PyResult<Py<Self>> {
-        for (key, v) in [("checkpoint_every", checkpoint_every), ("checkpoint_wall", checkpoint_wall)] {
-            if let Some(x) = v
-                && !(x.is_finite() && x > 0.0)
-            {
-                return Err(PyValueError::new_err(format!("{key}: must be a finite number > 0, got {x}")));
-            }
-        }
-        if checkpoint_keep == 0 {
-            return Err(PyValueError::new_err("checkpoint_keep: must be at least 1, got 0"));
-        }
-        let policy = CheckpointPolicy {
-            every: checkpoint_every,
-            wall: checkpoint_wall.map(|m| Duration::from_secs_f64(m * 60.0)),
-            keep: checkpoint_keep,
-        };
+        let given = (checkpoint_every, checkpoint_wall, Some(checkpoint_keep));
+        let policy =
+            CheckpointPolicy::checked(given, ["checkpoint_every", "checkpoint_wall", "checkpoint_keep"])
+                .map_err(PyValueError::new_err)?;
         slf.files = slf.run_whole(py, out, (formats, output_interval, max_spheres, name), quiet, policy)?;
         Ok(slf.into())
     }

@@ -141,9 +141,7 @@ impl Folder<'_> {
                 })
                 .unwrap_or(0)
         };
-        let part_name = |part: u32, ext: &str| {
-            if part <= 1 { format!("{stem}.{ext}") } else { format!("{stem}.part{part}.{ext}") }
-        };
+        let part_name = |part: u32, ext: &str| super::part_file(stem, part, ext);
         let created = (|| -> Result<(), OutputError> {
             if formats.contains(&Format::Mcap) {
                 let part = parts("mcap") + 1;

@@ -103,6 +103,12 @@ pub enum SinkMark {
     },
 }
 
+/// The file of part `part` of a run's output in format `ext` (`mcap`, `rrd`): `<stem>.<ext>` for
+/// the first, `<stem>.part<N>.<ext>` for those of resumed runs ([`SinkMark::Parts`]).
+pub fn part_file(stem: &str, part: u32, ext: &str) -> String {
+    if part <= 1 { format!("{stem}.{ext}") } else { format!("{stem}.part{part}.{ext}") }
+}
+
 /// Something that receives a run's frames and events. Every method defaults to doing nothing.
 pub trait Sink {
     /// A frame at the simulation's current time (called at t = 0 and every output interval).

@@ -69,6 +69,14 @@ pub struct RunPosition {
     pub wall_time: f64,
 }
 
+impl RunPosition {
+    /// The index `k` of the first multiple `k · interval` after `time` (by more than round-off):
+    /// the output frame (or checkpoint) a run at `time` steps towards.
+    pub fn next_index(time: f64, interval: f64) -> u64 {
+        (time / interval * (1.0 + 1e-12)).floor() as u64 + 1
+    }
+}
+
 /// The scene a checkpoint was taken of: its file (absolute, so that its meshes and fields are
 /// found from anywhere) and its text.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]

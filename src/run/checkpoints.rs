@@ -20,6 +20,32 @@ pub struct CheckpointPolicy {
     pub keep: usize,
 }
 
+impl CheckpointPolicy {
+    /// The policy of `every` simulated seconds, every `wall_minutes`, the newest `keep` kept
+    /// (default 2): each given value checked (finite and > 0; `keep` ≥ 1), the error naming it by
+    /// `names` (the option or argument it came as: `--checkpoint-every`, `checkpoint_every`).
+    pub fn checked(
+        (every, wall_minutes, keep): (Option<f64>, Option<f64>, Option<usize>),
+        names: [&str; 3],
+    ) -> Result<Self, String> {
+        for (name, v) in [(names[0], every), (names[1], wall_minutes)] {
+            if let Some(x) = v
+                && !(x.is_finite() && x > 0.0)
+            {
+                return Err(format!("{name}: must be a finite number > 0, got {x}"));
+            }
+        }
+        if keep == Some(0) {
+            return Err(format!("{}: must be at least 1, got 0", names[2]));
+        }
+        Ok(CheckpointPolicy {
+            every,
+            wall: wall_minutes.map(|m| Duration::from_secs_f64(m * 60.0)),
+            keep: keep.unwrap_or(2),
+        })
+    }
+}
+
 impl Default for CheckpointPolicy {
     /// No periodic checkpoint (a run stopped by a signal still takes one), the newest 2 kept.
     fn default() -> Self {
@@ -54,6 +80,27 @@ struct SavedRef<'a> {
     left_field: &'a Option<crate::fluid::field::OutsideField>,
     position: RunPosition,
     sinks: &'a [crate::output::SinkMark],
+}
+
+impl<'a> SavedRef<'a> {
+    /// The payload of a checkpoint of `sim`, the run of `scene` with its loop at `at` and its
+    /// sinks' `marks`.
+    fn of(
+        sim: &'a Simulation,
+        scene: &'a SavedScene,
+        at: RunPosition,
+        marks: &'a [crate::output::SinkMark],
+    ) -> Self {
+        SavedRef {
+            scene,
+            world: &sim.world,
+            lost: &sim.record.lost,
+            removed: &sim.record.removed,
+            left_field: &sim.record.left_field,
+            position: at,
+            sinks: marks,
+        }
+    }
 }
 
 impl Checkpoints {
@@ -104,15 +151,7 @@ impl Checkpoints {
         for s in sinks.iter_mut() {
             marks.extend(s.mark()?);
         }
-        let saved = SavedRef {
-            scene: &self.scene,
-            world: &sim.world,
-            lost: &sim.record.lost,
-            removed: &sim.record.removed,
-            left_field: &sim.record.left_field,
-            position: at,
-            sinks: &marks,
-        };
+        let saved = SavedRef::of(sim, &self.scene, at, &marks);
         let path = checkpoint::path_in(&self.folder, sim.world.steps);
         let bytes = checkpoint::encode_with(&saved, (sim.world.steps, sim.world.time), &self.scene.source)
             .map_err(|e| OutputError::new(&path, format!("cannot encode the checkpoint: {e}")))?;
@@ -151,8 +190,7 @@ impl Checkpoints {
 
 /// The first multiple of `every` after `time` (by more than round-off).
 fn next_multiple(time: f64, every: f64) -> f64 {
-    let k = (time / every * (1.0 + 1e-12)).floor() + 1.0;
-    k * every
+    RunPosition::next_index(time, every) as f64 * every
 }
 
 /// Writes a checkpoint of `sim` to the file `path` (not one of a folder's series): the run of
@@ -165,15 +203,7 @@ pub fn save_to(
     at: RunPosition,
     marks: &[crate::output::SinkMark],
 ) -> Result<(), checkpoint::CheckpointError> {
-    let saved = SavedRef {
-        scene,
-        world: &sim.world,
-        lost: &sim.record.lost,
-        removed: &sim.record.removed,
-        left_field: &sim.record.left_field,
-        position: at,
-        sinks: marks,
-    };
+    let saved = SavedRef::of(sim, scene, at, marks);
     let failed = |problem: String| checkpoint::CheckpointError::Write { path: path.to_path_buf(), problem };
     let bytes =
         checkpoint::encode_with(&saved, (sim.world.steps, sim.world.time), &scene.source).map_err(failed)?;

@@ -193,11 +193,7 @@ pub fn carry_outputs(from: &Path, to: &Path, saved: &Saved) -> std::io::Result<(
             }
             SinkMark::Parts { format, parts, .. } => {
                 for part in 1..=*parts {
-                    let name = if part == 1 {
-                        format!("{stem}.{format}")
-                    } else {
-                        format!("{stem}.part{part}.{format}")
-                    };
+                    let name = crate::output::part_file(stem, part, format);
                     if from.join(&name).is_file() {
                         std::fs::copy(from.join(&name), to.join(&name))?;
                     }
