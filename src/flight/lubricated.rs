@@ -5,11 +5,14 @@
 //! wall's frame: each component's linear drag is integrated exactly with its rate frozen over
 //! the sub-step (stable at any rate), and each sub-step changes the gap by at most
 //! [`GAP_FRACTION`] of itself, so the frozen factor is accurate however thin the film. Particles
-//! away from every wall never come here.
+//! away from every wall never come here. With the history effect too, the sub-steps carry the
+//! memory ([`Carried`]): the memory's force enters each sub-step's balance like the other
+//! explicit forces, and the part of it that follows the sub-step's own acceleration as an
+//! added inertia.
 
 use super::Kernel;
 use super::Motion;
-use crate::effects::{LUBRICATION_RANGE, wall_excess};
+use crate::effects::{LUBRICATION_RANGE, MemoryKernel, wall_excess};
 use crate::integrate::{ForceField, phi12};
 use crate::walls::{Surface, Wall};
 use glam::DVec3;
@@ -48,6 +51,7 @@ fn nearest(walls: &[Wall], x: DVec3, r: f64, kind_roughness: f64) -> Option<(f64
 }
 
 /// The frozen-coefficient linear acceleration of one state, split along the wall normal `n`.
+#[derive(Clone, Copy)]
 struct Split {
     /// Explicit normal acceleration (m/s²) and normal drag rate (1/s), fluid normal speed.
     en: f64,
@@ -57,20 +61,84 @@ struct Split {
     et: DVec3,
     rate_t: f64,
     ut: DVec3,
+    /// The inertia far from walls over the normal inertia, `i∞ / i⊥` (1 without added mass):
+    /// a force per unit of `i∞` moves the particle along `n` by this fraction of it.
+    normal_share: f64,
 }
 
 impl Split {
     /// Exact solution of `v' = e + rate (u − v)` per component over `dt`, from `(x, v)`.
     fn step(&self, n: DVec3, x: DVec3, v: DVec3, dt: f64) -> (DVec3, DVec3) {
-        let vn = v.dot(n);
-        let vt = v - vn * n;
-        let an = self.en + self.rate_n * (self.un - vn);
-        let at = self.et + (self.ut - vt) * self.rate_t;
+        let (an, at) = self.parts(n, v);
         let (p1n, p2n) = phi12(-self.rate_n * dt);
         let (p1t, p2t) = phi12(-self.rate_t * dt);
         let x1 = x + v * dt + n * (an * p2n * dt * dt) + at * (p2t * dt * dt);
         let v1 = v + n * (an * p1n * dt) + at * (p1t * dt);
         (x1, v1)
+    }
+
+    /// The acceleration at velocity `v`: its normal component and its tangential part.
+    fn parts(&self, n: DVec3, v: DVec3) -> (f64, DVec3) {
+        let vn = v.dot(n);
+        let vt = v - vn * n;
+        (self.en + self.rate_n * (self.un - vn), self.et + (self.ut - vt) * self.rate_t)
+    }
+
+    /// The same balance with the history force `−c (s + d a)` per unit of the inertia far
+    /// from walls (docs/physics.md §10): `s` the memory's part (m/s^{3/2}), fixed, and `d`
+    /// (s^½) the part that follows the acceleration `a` itself, an added inertia `c d`, which
+    /// the normal direction shares by `i∞ / i⊥`.
+    fn with_history(mut self, n: DVec3, c: f64, s: DVec3, d: f64) -> Split {
+        let cn = c * self.normal_share;
+        let sn = s.dot(n);
+        let (gn, gt) = (1.0 / (1.0 + cn * d), 1.0 / (1.0 + c * d));
+        self.en = (self.en - cn * sn) * gn;
+        self.rate_n *= gn;
+        self.et = (self.et - (s - sn * n) * c) * gt;
+        self.rate_t *= gt;
+        self
+    }
+}
+
+/// The memory that the sub-steps carry with the history effect (docs/physics.md §10, §8): the
+/// modes `F_k`, moved on sub-step by sub-step as [`super::remembered`] moves them over a
+/// step, with the acceleration linear in time across each sub-step.
+pub(super) struct Carried<'m> {
+    /// Weights, rates and short-lag weight of the kernel.
+    pub kernel: &'m MemoryKernel,
+    /// The modes, at the start of the flight on entry and at its end on return.
+    pub modes: &'m mut [DVec3],
+    /// The particle's `c` (s^−½).
+    pub c: f64,
+}
+
+impl Carried<'_> {
+    /// The memory's force at `dt` into a sub-step, the modes' response inside it left out:
+    /// `Σ w_k e^{−λ_k dt} F_k` (m/s^{3/2}), and the weight `D + Σ w_k dt φ1(−λ_k dt)` (s^½)
+    /// with which an acceleration constant over those `dt` adds to it.
+    fn ahead(&self, dt: f64) -> (DVec3, f64) {
+        let (mut s, mut d) = (DVec3::ZERO, self.kernel.short_weight);
+        for ((f, &w), &rate) in self.modes.iter().zip(&self.kernel.sum.weights).zip(&self.kernel.sum.rates) {
+            let z = -rate * dt;
+            let (p1, _) = phi12(z);
+            s += *f * (w * (1.0 + z * p1));
+            d += w * dt * p1;
+        }
+        (s, d)
+    }
+
+    /// Moves the modes over a sub-step of `dt` in which the velocity changed by `dv`, taking
+    /// the acceleration constant across it: `F_k ← e^{−λ_k dt} F_k + dv φ1(−λ_k dt)`. Not the
+    /// sub-step's end-point accelerations: with the frozen stiff drag of a film, the start's
+    /// balance pulls the velocity towards a quasi-steady value the sub-step reaches almost at
+    /// once, so an acceleration read there is far from the mean and would be remembered as a
+    /// jolt at every sub-step; `dv` is what the slip did.
+    fn commit(&mut self, dv: DVec3, dt: f64) {
+        for (f, &rate) in self.modes.iter_mut().zip(&self.kernel.sum.rates) {
+            let z = -rate * dt;
+            let (p1, _) = phi12(z);
+            *f = *f * (1.0 + z * p1) + dv * p1;
+        }
     }
 }
 
@@ -103,6 +171,7 @@ impl<M: Motion> Kernel<'_, M> {
             et: l.explicit - l.explicit.dot(n) * n,
             rate_t: l.inv_tau + stokes_rate * ex.parallel,
             ut: l.u - un * n,
+            normal_share: i_inf / i_n,
         }
     }
 
@@ -117,12 +186,41 @@ impl<M: Motion> Kernel<'_, M> {
         (x, v): (DVec3, DVec3),
         h: f64,
     ) -> Option<(DVec3, DVec3)> {
-        let rough = lub.kind_roughness[k];
-        let start = nearest(self.walls, x, r, rough)?;
+        let wall = self.wall_in_reach(lub, field, (k, r), (x, v), h)?;
+        Some(self.substeps(lub, field, (k, r), (x, v), h, wall, None))
+    }
+
+    /// The nearest wall, lubrication gap and normal, when the particle may come within the
+    /// effect's range of it in a flight of `h` (s) (its speed and acceleration bound the move).
+    pub(super) fn wall_in_reach(
+        &self,
+        lub: &Lubrication,
+        field: &M::Field<DVec3>,
+        (k, r): (usize, f64),
+        (x, v): (DVec3, DVec3),
+        h: f64,
+    ) -> Option<(f64, DVec3)> {
+        let start = nearest(self.walls, x, r, lub.kind_roughness[k])?;
         let accel = field.eval(x, v).total(v).length();
-        if start.0 - LUBRICATION_RANGE * r >= (2.0 * v.length() + accel * h) * h {
-            return None;
-        }
+        if start.0 - LUBRICATION_RANGE * r >= (2.0 * v.length() + accel * h) * h { None } else { Some(start) }
+    }
+
+    /// The sub-steps of a flight of `h` (s) from `(x, v)` near a wall (`start`, from
+    /// [`Kernel::wall_in_reach`]); with `memory`, the history force acts too and its modes are
+    /// carried along (each sub-step as [`super::remembered`] takes a whole step, in the wall's
+    /// frame, the drag integrated exactly as here).
+    #[allow(clippy::too_many_arguments)]
+    pub(super) fn substeps(
+        &self,
+        lub: &Lubrication,
+        field: &M::Field<DVec3>,
+        (k, r): (usize, f64),
+        (x, v): (DVec3, DVec3),
+        h: f64,
+        start: (f64, DVec3),
+        mut memory: Option<Carried>,
+    ) -> (DVec3, DVec3) {
+        let rough = lub.kind_roughness[k];
         let (mut x, mut v, mut t) = (x, v, 0.0);
         let mut count = 0;
         while t < h && count < MAX_SUBSTEPS {
@@ -135,7 +233,11 @@ impl<M: Motion> Kernel<'_, M> {
             count += 1;
             let rem = h - t;
             let gap_at = |y: DVec3| (g + (y - x).dot(n)).max(0.0);
-            let s0 = self.split(lub, field, (k, r), (x, v), (g, n));
+            let mut s0 = self.split(lub, field, (k, r), (x, v), (g, n));
+            if let Some(m) = &memory {
+                let (s, d) = m.ahead(0.0);
+                s0 = s0.with_history(n, m.c, s, d);
+            }
             let vn = v.dot(n).abs();
             let mut dt = if vn * rem > GAP_FRACTION * g { GAP_FRACTION * g / vn } else { rem };
             // Shrink until the gap changes by at most GAP_FRACTION (the force may speed the
@@ -143,18 +245,25 @@ impl<M: Motion> Kernel<'_, M> {
             let floor = h / MAX_SUBSTEPS as f64;
             let (x1, v1) = loop {
                 let (xm, vm) = s0.step(n, x, v, 0.5 * dt);
-                let sm = self.split(lub, field, (k, r), (xm, vm), (gap_at(xm).max(1e-3 * g), n));
+                let mut sm = self.split(lub, field, (k, r), (xm, vm), (gap_at(xm).max(1e-3 * g), n));
+                if let Some(m) = &memory {
+                    let (s, d) = m.ahead(0.5 * dt);
+                    sm = sm.with_history(n, m.c, s, d);
+                }
                 let (x1, v1) = sm.step(n, x, v, dt);
                 if (x1 - x).dot(n).abs() <= GAP_FRACTION * g || dt <= floor {
                     break (x1, v1);
                 }
                 dt = (0.5 * dt).max(floor);
             };
+            if let Some(m) = &mut memory {
+                m.commit(v1 - v, dt);
+            }
             (x, v, t) = (x1, v1, t + dt);
             if dt >= rem {
                 break;
             }
         }
-        Some((x, v))
+        (x, v)
     }
 }

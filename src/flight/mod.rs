@@ -59,8 +59,9 @@ pub struct Kernel<'a, M> {
     tets: &'a [u32],
 }
 
-/// The effects the free flight cannot fold into the linearised force; a scene has at most one
-/// (the loader refuses both together).
+/// The effects the free flight cannot fold into the linearised force. With both, the memory
+/// holds the lubrication ([`remembered::Memory::lubrication`]): near a wall the lubricated
+/// sub-steps carry the memory.
 enum NonLinear<'a> {
     Lubrication(lubricated::Lubrication),
     Memory(remembered::Memory<'a>),
@@ -155,8 +156,9 @@ impl<'a, M: Motion> Kernel<'a, M> {
         self.motion.field(accel, drag_rate / (d * d), d * self.re_rate, gain)
     }
 
-    /// Whether the scene has the wall-lubrication effect (with drag): a particle that may come
-    /// within its range of a wall then goes through [`Kernel::fly`], which looks for the wall.
+    /// Whether the scene has the wall-lubrication effect (with drag) and not the history effect:
+    /// a particle that may come within its range of a wall then goes through [`Kernel::fly`],
+    /// which looks for the wall. (With history, every particle goes through it anyway.)
     pub fn lubricated(&self) -> bool {
         matches!(self.nonlinear, Some(NonLinear::Lubrication(_)))
     }
@@ -174,7 +176,12 @@ impl<'a, M: Motion> Kernel<'a, M> {
         step: f64,
     ) -> Self {
         if let Some(kernel) = kernel {
+            let lubrication = match self.nonlinear.take() {
+                Some(NonLinear::Lubrication(lub)) => Some(lub),
+                _ => None,
+            };
             self.nonlinear = Some(NonLinear::Memory(remembered::Memory {
+                lubrication,
                 kind_rate: physics
                     .kinds
                     .iter()

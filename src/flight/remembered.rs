@@ -16,6 +16,7 @@
 //! A-stable in the drag (as `λ h → ∞` the velocity lands on the fluid's plus the terminal
 //! slip), whatever the scene's integrator: with history, free flight is this scheme.
 
+use super::lubricated::{Carried, Lubrication};
 use super::{Kernel, Motion, NO_MEMORY, Segment};
 use crate::effects::MemoryKernel;
 use crate::integrate::{ForceField, phi12};
@@ -31,6 +32,8 @@ pub(super) struct Memory<'a> {
     pub start: &'a [DVec3],
     /// The per-mode coefficients of a whole step (most segments are one).
     pub step: StepCoefficients,
+    /// With wall lubrication too: near a wall, the flight is its sub-steps, carrying the memory.
+    pub lubrication: Option<Lubrication>,
 }
 
 /// The per-mode coefficients of a segment of length `h`, the same for every particle:
@@ -98,6 +101,24 @@ impl<M: Motion> Kernel<'_, M> {
             let i = seg.memory as usize * n;
             &mem.start[i..i + n]
         };
+        if let Some(lub) = &mem.lubrication
+            && let Some(wall) = self.wall_in_reach(lub, field, (k, r), (seg.x, seg.v), h)
+        {
+            // Near a wall: the lubricated sub-steps, with the modes carried in `out` (or in a
+            // scratch copy when the caller keeps no memory).
+            let mut scratch = Vec::new();
+            let modes = match out {
+                Some(out) => out,
+                None => {
+                    scratch.resize(n, DVec3::ZERO);
+                    &mut scratch[..]
+                }
+            };
+            modes.fill(DVec3::ZERO);
+            modes[..start.len()].copy_from_slice(start);
+            let carried = Carried { kernel, modes, c: mem.kind_rate[k] / r };
+            return self.substeps(lub, field, (k, r), (seg.x, seg.v), h, wall, Some(carried));
+        }
         // Σ w_k F_k(0) and Σ w_k e^{−λ_k h} F_k(0): the old accelerations' force now and at h.
         let (mut now, mut later) = (DVec3::ZERO, DVec3::ZERO);
         for ((f, w), e) in start.iter().zip(&kernel.sum.weights).zip(&co.decay) {

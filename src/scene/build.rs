@@ -140,13 +140,6 @@ pub(super) fn build(
             "needs the drag effect (it raises the drag near walls), got a scene without drag",
         ));
     }
-    if physics.history.is_some() && physics.wall_lubrication {
-        return Err(Invalid::new(
-            "effects.history",
-            "cannot be combined with wall_lubrication yet (the sub-stepped flight near a wall does \
-             not carry the memory); name one of the two",
-        ));
-    }
     if physics.drag.is_some() && fluid.viscosity <= 0.0 {
         return Err(Invalid::new(
             "fluid.viscosity",

@@ -171,16 +171,6 @@ fn history_tolerance_out_of_range_and_negative_window_are_refused_naming_the_key
     assert_eq!(e.key(), "effects.history.window", "{e}");
 }
 
-#[test]
-fn history_with_wall_lubrication_is_refused_naming_history() {
-    let e = refused(
-        &bead(1e-4, 1e-3, "gravity = {}\ndrag = {}\nwall_lubrication = {}\nhistory = {}")
-            .roughness(1e-6)
-            .toml(),
-    );
-    assert_eq!(e.key(), "effects.history", "{e}");
-}
-
 /// A smooth motion, with no start in it: the bead settles at its terminal slip across a
 /// Poiseuille flow (it starts with the fluid's velocity plus that slip, so its acceleration is
 /// continuous from the start), and the flow it meets changes as it crosses the streamlines.

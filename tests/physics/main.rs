@@ -22,6 +22,7 @@ mod friction_lasting_energy;
 mod heap;
 mod history;
 mod inject_outlets_counts;
+mod lubrication_history;
 mod outlets_residence;
 mod pairs;
 mod paper_fig6;

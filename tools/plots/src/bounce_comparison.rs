@@ -4,8 +4,10 @@
 //!     cargo run --release -p wetbounce-tools --bin bounce_comparison [-- OUT_DIR] [--font FILE.ttf]
 //!
 //! - `history_gondret`: the 3 mm steel bead in silicone oil of Gondret, Lance & Petit (2002),
-//!   `scenes/steel_bead_oil.toml` (no history force) beside `scenes/steel_bead_oil_history.toml`
-//!   (the `history` effect, docs/physics.md §10);
+//!   `scenes/steel_bead_oil.toml` (L06's rule, no history force) beside
+//!   `scenes/steel_bead_oil_history.toml` (the `history` effect, docs/physics.md §10),
+//!   `scenes/steel_bead_oil_lubrication.toml` (`wall_lubrication` and the `e` rule, §8) and
+//!   `scenes/steel_bead_oil_lubrication_history.toml` (both);
 //! - `lubrication_glass_bead`: the 2.5 mm glass bead in water, `scenes/glass_bead.toml` (L06's
 //!   ε(St) rule) beside `scenes/glass_bead_lubrication.toml` (`wall_lubrication` and the `e`
 //!   rule, docs/physics.md §8).
@@ -120,7 +122,7 @@ fn write_csv(file: &Path, runs: &[Run]) -> Result<(), String> {
     f.write_all(text.as_bytes()).map_err(|e| format!("{}: {e}", file.display()))
 }
 
-fn compare(out: &Path, stem: &str, title: &str, scenes: [(&str, &'static str); 2]) -> Result<(), String> {
+fn compare(out: &Path, stem: &str, title: &str, scenes: &[(&str, &'static str)]) -> Result<(), String> {
     let runs = scenes.iter().map(|&(file, label)| run_scene(file, label)).collect::<Result<Vec<_>, _>>()?;
     write_csv(&out.join(format!("{stem}.csv")), &runs)?;
     plotting::png_and_svg(
@@ -139,16 +141,18 @@ fn run(out: &Path) -> Result<(), String> {
         out,
         "history_gondret",
         "3 mm steel bead on glass in silicone oil (Gondret et al. 2002 case, St ≈ 150)",
-        [
-            ("scenes/steel_bead_oil.toml", "no history force"),
-            ("scenes/steel_bead_oil_history.toml", "with the history force"),
+        &[
+            ("scenes/steel_bead_oil.toml", "L06's ε(St) rule"),
+            ("scenes/steel_bead_oil_history.toml", "L06's rule + history force"),
+            ("scenes/steel_bead_oil_lubrication.toml", "wall lubrication + e rule"),
+            ("scenes/steel_bead_oil_lubrication_history.toml", "lubrication + e rule + history force"),
         ],
     )?;
     compare(
         out,
         "lubrication_glass_bead",
         "2.5 mm glass bead on glass in water",
-        [
+        &[
             ("scenes/glass_bead.toml", "L06's ε(St) rule"),
             ("scenes/glass_bead_lubrication.toml", "wall lubrication + e rule"),
         ],
