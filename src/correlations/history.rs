@@ -87,35 +87,53 @@ impl ExponentialSum {
     /// `t ∈ [t_min, t_max]` (s) **[ext]**: the trapezoidal rule with step `h` on
     /// `1/√t = (2/√π) ∫_{−∞}^{∞} exp(x − t e^{2x}) dx`, nodes `x_k`, so that
     /// `w_k = (2/√π) h e^{x_k}` and `λ_k = e^{2 x_k}` (the construction of Beylkin & Monzón
-    /// 2010, Appl. Comput. Harmon. Anal. 28, 131–149, applied to this kernel).
+    /// 2010, Appl. Comput. Harmon. Anal. 28, 131–149, applied to this kernel), with its slow
+    /// tail lumped into one exponential.
     ///
-    /// The error budget is split in three: the discretisation error of the rule, relative and
-    /// independent of `t`, is `2|Γ(½ + iπ/h)|/√π = 2/sqrt(cosh(π²/h)) ≤ rel_tol/3`; the nodes
-    /// stop below at `x_L` where the left tail `(2/√π) Σ_{x_k < x_L} h e^{x_k}` is `rel_tol/3`
-    /// of `1/√t_max`, and above at `x_U` where `erfc(√t_min e^{x_U}) ≤ rel_tol/3`.
-    /// Examples: `[1, 10⁴]` s at 1e-3 takes 27 exponentials (measured error 4.9e-4);
-    /// `[1e-4, 10⁶]` s at 1e-5, 73 (5.5e-6); `[1e-3, 10³]` s at 1e-8, 119 (5.5e-9); test
+    /// The error budget: the discretisation error of the rule, relative and independent of
+    /// `t`, is `2|Γ(½ + iπ/h)|/√π = 2/sqrt(cosh(π²/h)) ≤ 0.7 rel_tol`; the nodes stop above at
+    /// `x_U` where `erfc(√t_min e^{x_U}) ≤ 0.3 rel_tol`. The slow tail: every node whose rate
+    /// is below `θ/t_max`, `θ = min(10 rel_tol, 10⁻³)`, is nearly constant over the whole
+    /// interval (`e^{−λt} = 1 − λt + …`), so those nodes are replaced by one exponential of
+    /// their total weight `W = Σ w_k` and mean rate `Σ w_k λ_k / W`: the same value and slope
+    /// at `t = 0`, a difference of order `(θ t/t_max)²` of `W` after (below 1e-3 of `rel_tol`
+    /// for `t ≤ t_max`). Lumped, the tail costs one state however far down it goes, so it is
+    /// taken down to `1e-3 rel_tol` of `1/√t_max` and its truncation error is negligible.
+    /// Beyond `t_max` the lumped exponential decays at about `θ/t_max`: older accelerations
+    /// are under-weighted, then forgotten after some `1/θ` windows.
+    ///
+    /// Examples (before the lumping and the new budget in brackets): `[1, 10⁴]` s at 1e-3
+    /// takes 17 exponentials (27), measured error 7.0e-4; `[1e-10, 1]` s at 1e-4, 37 (55),
+    /// 7.0e-5; `[1e-4, 10⁶]` s at 1e-5, 48 (73); `[1e-3, 10³]` s at 1e-8, 68 (119); test
     /// `inverse_sqrt_sum_meets_its_tolerance`, on 2000 points per decade.
     ///
     /// # Panics
     /// Unless `0 < t_min < t_max` and `0 < rel_tol < 1`.
     pub fn inverse_sqrt(t_min: f64, t_max: f64, rel_tol: f64) -> Self {
         assert!(0.0 < t_min && t_min < t_max && 0.0 < rel_tol && rel_tol < 1.0);
-        let part = rel_tol / 3.0;
-        // 2/sqrt(cosh(π²/h)) ≈ 2√2 e^{−π²/(2h)} = part.
-        let h = PI * PI / (2.0 * (2.0 * 2f64.sqrt() / part).ln());
+        // 2/sqrt(cosh(π²/h)) ≈ 2√2 e^{−π²/(2h)} = 0.7 rel_tol.
+        let h = PI * PI / (2.0 * (2.0 * 2f64.sqrt() / (0.7 * rel_tol)).ln());
         let c = 2.0 / PI.sqrt();
-        // Left tail: c e^{x_L} h / (1 − e^{−h}) · √t_max = part.
-        let x_lo = (part * (-h).exp_m1().abs() / (h * c * t_max.sqrt())).ln();
+        // Left tail: c e^{x_L} h / (1 − e^{−h}) · √t_max = 1e-3 rel_tol.
+        let x_lo = (1e-3 * rel_tol * (-h).exp_m1().abs() / (h * c * t_max.sqrt())).ln();
         // Right tail: erfc(z) ≤ e^{−z²}, z = √t_min e^{x_U}.
-        let x_hi = ((1.0 / part).ln().sqrt() / t_min.sqrt()).ln();
+        let x_hi = ((1.0 / (0.3 * rel_tol)).ln().sqrt() / t_min.sqrt()).ln();
         let n = ((x_hi - x_lo) / h).ceil() as usize + 1;
-        let (mut weights, mut rates) = (Vec::with_capacity(n), Vec::with_capacity(n));
+        let slow = (10.0 * rel_tol).min(1e-3) / t_max;
+        let (mut weights, mut rates) = (vec![0.0], vec![0.0]);
+        let (mut lumped, mut moment) = (0.0, 0.0);
         for k in 0..n {
             let x = x_lo + k as f64 * h;
-            weights.push(c * h * x.exp());
-            rates.push((2.0 * x).exp());
+            let (w, rate) = (c * h * x.exp(), (2.0 * x).exp());
+            if rate < slow {
+                lumped += w;
+                moment += w * rate;
+            } else {
+                weights.push(w);
+                rates.push(rate);
+            }
         }
+        (weights[0], rates[0]) = (lumped, moment / lumped);
         Self { weights, rates }
     }
 }
@@ -345,14 +363,15 @@ mod tests {
     #[test]
     fn inverse_sqrt_sum_meets_its_tolerance() {
         for (t_min, t_max, tol, terms) in
-            [(1.0, 1e4, 1e-3, 27), (1e-3, 1e3, 1e-8, 119), (1e-4, 1e6, 1e-5, 73)]
+            [(1.0, 1e4, 1e-3, 17), (1e-10, 1.0, 1e-4, 37), (1e-3, 1e3, 1e-8, 68), (1e-4, 1e6, 1e-5, 48)]
         {
             let k = ExponentialSum::inverse_sqrt(t_min, t_max, tol);
             let worst = log_grid(t_min.log10(), t_max.log10(), 2000)
                 .map(|t| (k.eval(t) * t.sqrt() - 1.0).abs())
                 .fold(0.0, f64::max);
             assert!(worst < tol, "[{t_min}, {t_max}] at {tol}: {worst}");
-            assert!(worst > 0.3 * tol, "[{t_min}, {t_max}] at {tol}: the budget is not wasted: {worst}");
+            assert!(worst > 0.5 * tol, "[{t_min}, {t_max}] at {tol}: the budget is not wasted: {worst}");
+            eprintln!("[{t_min}, {t_max}] at {tol}: {} terms, worst {worst:.2e}", k.len());
             assert_eq!(k.len(), terms, "[{t_min}, {t_max}] at {tol}");
         }
     }

@@ -6,7 +6,6 @@ use super::{Effect, EffectError, Physics};
 use crate::correlations::ExponentialSum;
 use crate::fluid::Fluid;
 use crate::particles::{Column, Feature, ParticleKind, Particles, feature::reset_at_walls};
-use glam::DVec3;
 use serde::Deserialize;
 use std::collections::TryReserveError;
 use std::sync::Arc;
@@ -19,8 +18,8 @@ pub const SHORTEST_LAG: f64 = 1e-10;
 /// The history effect. Scene table: `history = {}`, or `history = { window = 1.0,
 /// tolerance = 1e-4 }`: the memory kernel `1/√t` is matched within `tolerance` (relative) for
 /// lags from `1e-10 window` to `window` (s); beyond the window the sum falls slowly below
-/// `1/√t`, so older accelerations are under-weighted rather than cut off. Memory: 55 modes
-/// (1320 bytes) per particle with the defaults.
+/// `1/√t`, so older accelerations are under-weighted, then forgotten. Memory: 37 modes
+/// (888 bytes) per particle with the defaults.
 #[derive(Debug, Clone, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct History {
@@ -76,7 +75,7 @@ impl Effect for History {
 }
 
 /// The memory of the history force as a feature: a typed column of the store
-/// ([`Particles::memory`], `modes` vectors per particle) that the flight kernel reads in the
+/// ([`Particles::memory`], 3 × `modes` numbers per particle) that the flight kernel reads in the
 /// hot loop and writes the end of in `Next::memory` (the particle pass, and stage 4 for the
 /// paths a contact restarted); the store commits it.
 #[derive(Debug, Clone)]
@@ -94,7 +93,7 @@ impl Feature for Memory {
     /// velocity forever.
     fn start(&self, p: &mut Particles) -> Result<(), TryReserveError> {
         if !p.memory.is_on() {
-            p.memory = Column::try_new(self.modes, DVec3::ZERO, p.len())?;
+            p.memory = Column::try_new(3 * self.modes, 0.0, p.len())?;
         }
         Ok(())
     }
@@ -102,8 +101,8 @@ impl Feature for Memory {
     /// A particle held at a wall or resting on one remembers nothing: its flight after the
     /// release starts a new memory (docs/physics.md §10, "impact, hold and release").
     fn commit(&self, p: &mut Particles) {
-        let modes = p.memory.width();
-        reset_at_walls(&p.state, p.memory.values_mut(), modes, DVec3::ZERO);
+        let width = p.memory.width();
+        reset_at_walls(&p.state, p.memory.values_mut(), width, 0.0);
     }
 }
 
@@ -175,9 +174,9 @@ mod tests {
     }
 
     #[test]
-    fn default_kernel_has_55_modes_of_24_bytes_each() {
+    fn default_kernel_has_37_modes_of_24_bytes_each() {
         let k = MemoryKernel::new(1.0, 1e-4);
-        assert_eq!(k.modes(), 55);
+        assert_eq!(k.modes(), 37);
         assert_eq!(k.bytes_per_particle(), 24 * k.modes());
     }
 

@@ -106,8 +106,9 @@ impl Split {
 pub(super) struct Carried<'m> {
     /// Weights, rates and short-lag weight of the kernel.
     pub kernel: &'m MemoryKernel,
-    /// The modes, at the start of the flight on entry and at its end on return.
-    pub modes: &'m mut [DVec3],
+    /// The modes, at the start of the flight on entry and at its end on return (by
+    /// component, as [`crate::particles::Particles::memory`] holds them).
+    pub modes: &'m mut [f64],
     /// The particle's `c` (s^−½).
     pub c: f64,
 }
@@ -117,11 +118,13 @@ impl Carried<'_> {
     /// `Σ w_k e^{−λ_k dt} F_k` (m/s^{3/2}), and the weight `D + Σ w_k dt φ1(−λ_k dt)` (s^½)
     /// with which an acceleration constant over those `dt` adds to it.
     fn ahead(&self, dt: f64) -> (DVec3, f64) {
+        let n = self.kernel.modes();
         let (mut s, mut d) = (DVec3::ZERO, self.kernel.short_weight);
-        for ((f, &w), &rate) in self.modes.iter().zip(&self.kernel.sum.weights).zip(&self.kernel.sum.rates) {
+        for (k, (&w, &rate)) in self.kernel.sum.weights.iter().zip(&self.kernel.sum.rates).enumerate() {
             let z = -rate * dt;
             let (p1, _) = phi12(z);
-            s += *f * (w * (1.0 + z * p1));
+            let f = DVec3::new(self.modes[k], self.modes[n + k], self.modes[2 * n + k]);
+            s += f * (w * (1.0 + z * p1));
             d += w * dt * p1;
         }
         (s, d)
@@ -134,10 +137,14 @@ impl Carried<'_> {
     /// once, so an acceleration read there is far from the mean and would be remembered as a
     /// jolt at every sub-step; `dv` is what the slip did.
     fn commit(&mut self, dv: DVec3, dt: f64) {
-        for (f, &rate) in self.modes.iter_mut().zip(&self.kernel.sum.rates) {
+        let n = self.kernel.modes();
+        for (k, &rate) in self.kernel.sum.rates.iter().enumerate() {
             let z = -rate * dt;
             let (p1, _) = phi12(z);
-            *f = *f * (1.0 + z * p1) + dv * p1;
+            for c in 0..3 {
+                let f = &mut self.modes[c * n + k];
+                *f = *f * (1.0 + z * p1) + dv[c] * p1;
+            }
         }
     }
 }

@@ -171,7 +171,7 @@ impl<'a, M: Motion> Kernel<'a, M> {
         mut self,
         physics: &Physics,
         fluid: &Fluid,
-        start: &'a [DVec3],
+        start: &'a [f64],
         kernel: Option<&'a MemoryKernel>,
         step: f64,
     ) -> Self {
@@ -195,24 +195,26 @@ impl<'a, M: Motion> Kernel<'a, M> {
         self
     }
 
-    /// Modes per particle when the kernel flies with memory.
-    pub fn memory_modes(&self) -> Option<usize> {
+    /// Numbers of memory per particle (3 × modes, [`crate::particles::Particles::memory`])
+    /// when the kernel flies with memory.
+    pub fn memory_width(&self) -> Option<usize> {
         match &self.nonlinear {
-            Some(NonLinear::Memory(m)) => Some(m.kernel.modes()),
+            Some(NonLinear::Memory(m)) => Some(3 * m.kernel.modes()),
             _ => None,
         }
     }
 
-    /// [`Kernel::fly`] that also writes the memory at the segment's end into `out` (one vector
-    /// per mode): zero unless the particle flies free (held and resting particles remember
-    /// nothing). Only with the history effect; `out` is left alone otherwise.
+    /// [`Kernel::fly`] that also writes the memory at the segment's end into `out` (the
+    /// particle's numbers of [`crate::particles::Particles::memory`]): zero unless the particle
+    /// flies free (held and resting particles remember nothing). Only with the history effect;
+    /// `out` is left alone otherwise.
     pub fn fly_remembering(
         &self,
         field: &M::Field<DVec3>,
         (k, r): (usize, f64),
         seg: &Segment,
         h: f64,
-        out: &mut [DVec3],
+        out: &mut [f64],
     ) -> Flight {
         match (&self.nonlinear, seg.state) {
             (Some(NonLinear::Memory(mem)), State::Free | State::PairHeld) => {
@@ -220,7 +222,7 @@ impl<'a, M: Motion> Kernel<'a, M> {
                 Flight { x, v, state: seg.state }
             }
             _ => {
-                out.fill(DVec3::ZERO);
+                out.fill(0.0);
                 self.fly(field, (k, r), seg, h)
             }
         }
@@ -395,7 +397,7 @@ impl<'a, M: Motion> Kernel<'a, M> {
         start: Segment,
         (k, d): (usize, f64),
         t1: f64,
-        out: &mut [DVec3],
+        out: &mut [f64],
     ) -> Flight {
         self.fly_remembering(&self.field_of(k, d, start.memory), (k, 0.5 * d), &start, t1 - start.t, out)
     }

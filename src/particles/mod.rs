@@ -146,9 +146,11 @@ pub struct Particles {
     /// the removal time minus this.
     pub born: Vec<f64>,
     /// With the history effect **[ext]** only (off otherwise): each particle's memory of its
-    /// past accelerations, [`Column::width`] vectors per particle, one per mode (m/s each: the
-    /// mode `F_k = ∫ e^{−λ_k (t − s)} dw/ds ds` of the slip `w`; docs/physics.md §10).
-    pub memory: Column<DVec3>,
+    /// past accelerations, the modes `F_k = ∫ e^{−λ_k (t − s)} dw/ds ds` of the slip `w` (m/s
+    /// each; docs/physics.md §10), [`Column::width`] = 3 × modes numbers per particle by
+    /// component: the `x` of every mode, then every `y`, then every `z`, so that the flight's
+    /// loops over the modes run over contiguous numbers (`flight::remembered`).
+    pub memory: Column<f64>,
     /// With a flow field on an unstructured grid only (off otherwise): the grid's tetrahedron
     /// that held each particle at the end of the last step, where the next step's flow lookups
     /// walk from ([`crate::fluid::field::unstructured`]); [`NO_TET`] when outside or not known
@@ -273,7 +275,7 @@ pub struct Next {
     pub holds: Vec<WallHold>,
     /// With the history effect: each particle's memory at the end of the step (written by
     /// the particle pass and, for the particles whose path a contact restarted, by stage 4).
-    pub memory: Vec<DVec3>,
+    pub memory: Vec<f64>,
     /// The end-of-step values of the features' own columns, like [`Particles::columns`]
     /// (stage 5½ fills them).
     pub columns: Vec<Vec<f64>>,

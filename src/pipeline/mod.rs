@@ -378,7 +378,7 @@ impl WithMotion for StepWith<'_> {
 fn move_and_collide<M: Motion>(
     motion: &M,
     (world, setup, record, scratch): (&mut World, &Setup, &mut Record, &mut Scratch),
-    (start_memory, tets): (&[glam::DVec3], &[u32]),
+    (start_memory, tets): (&[f64], &[u32]),
     (t0, t1): (f64, f64),
     laps: &mut Laps,
 ) -> bool {

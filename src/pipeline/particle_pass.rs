@@ -37,9 +37,9 @@ pub(crate) fn run<M: Motion>(
 ) -> PassResult {
     let n = p.len();
     next.resize(n, flight.rotation());
-    let modes = flight.memory_modes();
-    if let Some(modes) = modes {
-        next.memory.resize(n * modes, DVec3::ZERO);
+    let width = flight.memory_width();
+    if let Some(width) = width {
+        next.memory.resize(n * width, 0.0);
     }
     let (pos, kind, diameter, release_time, release_vel) =
         (&p.pos, &p.kind, &p.diameter, &p.release_time, &p.release_vel);
@@ -74,7 +74,7 @@ pub(crate) fn run<M: Motion>(
                 w1: &mut w1[..len],
             }
         });
-    let chunks: Vec<Chunk> = match modes {
+    let chunks: Vec<Chunk> = match width {
         None => columns
             .map(|cols| {
                 if cols.state.iter().all(|&s| s == State::Free) {
@@ -86,9 +86,9 @@ pub(crate) fn run<M: Motion>(
             .collect(),
         // With the history effect every chunk goes one particle at a time and writes each
         // particle's memory at t1.
-        Some(modes) => columns
-            .zip(next.memory.par_chunks_mut(CHUNK * modes))
-            .map(|(cols, out)| mixed_chunk(flight, cols, t0, t1, Remembering { out, modes }))
+        Some(width) => columns
+            .zip(next.memory.par_chunks_mut(CHUNK * width))
+            .map(|(cols, out)| mixed_chunk(flight, cols, t0, t1, Remembering { out, width }))
             .collect(),
     };
     wall_candidates.clear();
@@ -266,10 +266,10 @@ impl Recorder for Forgetting {
     }
 }
 
-/// Flies with memory, writing particle `j`'s memory at `t1` into its `modes` vectors of `out`.
+/// Flies with memory, writing particle `j`'s memory at `t1` into its `width` numbers of `out`.
 struct Remembering<'a> {
-    out: &'a mut [DVec3],
-    modes: usize,
+    out: &'a mut [f64],
+    width: usize,
 }
 
 impl Recorder for Remembering<'_> {
@@ -282,7 +282,7 @@ impl Recorder for Remembering<'_> {
         t1: f64,
         j: usize,
     ) -> Flight {
-        flight.free_flight_remembering(start, kd, t1, &mut self.out[j * self.modes..(j + 1) * self.modes])
+        flight.free_flight_remembering(start, kd, t1, &mut self.out[j * self.width..(j + 1) * self.width])
     }
 }
 

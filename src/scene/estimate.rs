@@ -221,8 +221,8 @@ pub(super) fn check_memory(e: &RunEstimate, available: Option<f64>) -> Result<()
     ))
 }
 
-/// What the memory is made of, in words: `up to 1000000 particles × 2.90 kB each, 2.64 kB of it
-/// the history effect's 55 modes, twice`.
+/// What the memory is made of, in words: `up to 1000000 particles × 2.03 kB each, 1.78 kB of it
+/// the history effect's 37 modes, twice`.
 pub fn memory_breakdown(e: &RunEstimate) -> String {
     let history = if e.history_modes > 0 {
         format!(

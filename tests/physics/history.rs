@@ -80,7 +80,7 @@ fn history_slows_the_settling_against_the_same_bead_without_it() {
 }
 
 #[test]
-fn memory_columns_exist_only_with_the_history_effect_one_vector_per_mode() {
+fn memory_columns_exist_only_with_the_history_effect_three_numbers_per_mode() {
     let plain = bead(1e-4, 1e-3, "gravity = {}\ndrag = {}").scene().simulation();
     let p = &plain.world.particles;
     assert!(p.memory.values().is_empty() && !p.memory.is_on());
@@ -90,8 +90,8 @@ fn memory_columns_exist_only_with_the_history_effect_one_vector_per_mode() {
     let modes = scene.setup.physics.history.as_ref().unwrap().modes();
     let with = scene.simulation();
     let p = &with.world.particles;
-    assert_eq!(p.memory.width(), modes);
-    assert_eq!(p.memory.values().len(), modes * p.len());
+    assert_eq!(p.memory.width(), 3 * modes);
+    assert_eq!(p.memory.values().len(), 3 * modes * p.len());
 }
 
 /// A bead dropped onto the floor with history: it bounces, no contact gains energy, its memory
@@ -118,7 +118,7 @@ fn bouncing_with_history_gains_no_energy_and_starts_each_rebound_with_an_empty_m
             bounces += usize::from(e.outcome == wetbounce::Outcome::Bounced);
         }
         let memory = sim.world.particles.memory.values();
-        let size = memory.iter().map(|m| m.length()).fold(0.0, f64::max);
+        let size = memory.iter().map(|m| m.abs()).fold(0.0, f64::max);
         if !events.is_empty() {
             steps_since_bounce = 0;
             // One step after the contact at most: the memory holds only that part of a step.

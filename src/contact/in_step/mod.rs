@@ -45,13 +45,13 @@ pub(crate) fn resolve_in_step<M: Motion>(
         })
         .collect();
     let mut suspect = false;
-    let modes = ctx.flight.memory_modes();
+    let width = ctx.flight.memory_width();
     for r in results {
         for tr in r.tracks {
             let i = tr.i;
             // With the history effect, a path that a contact or a release restarted has a new
             // memory, which the particle pass did not see (stage 2 flew the path as it was).
-            if let Some(m) = modes
+            if let Some(m) = width
                 && tr.seg.memory == NO_MEMORY
             {
                 let out = &mut next.memory[i * m..(i + 1) * m];
