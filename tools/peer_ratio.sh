@@ -3,7 +3,9 @@
 # dilute scene (scenes/bench_dilute.toml: same spheres, box, fluid, effects and step count),
 # one after the other in one run, with 1 and 2 ranks/threads, and prints the ratio; then
 # wetbounce with L06's heavier physics on the same beads (scenes/bench_paper.toml:
-# Schiller–Naumann drag, added mass, RK2) against the peer's rates of this run.
+# Schiller–Naumann drag, added mass, RK2), the same with wall lubrication, with the history
+# force, and with everything (scenes/bench_paper_full.toml: lubrication, history, rotation
+# and friction) against the peer's dilute rates of this run.
 #
 #   apt-get install -y liggghts          # Debian package, with Open MPI
 #   bash tools/peer_ratio.sh             # STEPS=20000 by default
@@ -26,14 +28,16 @@ lig() { # ranks
 wb() { # threads [scene]
   "${CARGO_TARGET_DIR:-$HERE/target}/release/step_rate" "$HERE/scenes/${2:-bench_dilute}.toml" "$STEPS" "$1" | awk -F'particle_steps_per_s=' '/particle_steps_per_s/{print $2}'
 }
-printf "%-10s %-8s %16s %16s %8s\n" scene ranks liggghts_psps wetbounce_psps ratio
+printf "%-18s %-8s %16s %16s %8s\n" scene ranks liggghts_psps wetbounce_psps ratio
 declare -A PEER
 for r in 1 2; do
   L=$(lig $r); W=$(wb $r); PEER[$r]=$L
-  printf "%-10s %-8s %16s %16s %8.2f\n" S1_dilute "$r" "$L" "$W" "$(awk -v w="$W" -v l="$L" 'BEGIN{print w/l}')"
+  printf "%-18s %-8s %16s %16s %8.2f\n" S1_dilute "$r" "$L" "$W" "$(awk -v w="$W" -v l="$L" 'BEGIN{print w/l}')"
 done
-for r in 1 2; do
-  L=${PEER[$r]}; W=$(wb $r bench_paper)
-  printf "%-10s %-8s %16s %16s %8.2f\n" S1_paper "$r" "$L" "$W" "$(awk -v w="$W" -v l="$L" 'BEGIN{print w/l}')"
+for scene in bench_paper bench_paper_lubrication bench_paper_history bench_paper_full; do
+  for r in 1 2; do
+    L=${PEER[$r]}; W=$(wb $r $scene)
+    printf "%-18s %-8s %16s %16s %8.2f\n" "${scene#bench_}" "$r" "$L" "$W" "$(awk -v w="$W" -v l="$L" 'BEGIN{print w/l}')"
+  done
 done
 rm -rf "$WORK"

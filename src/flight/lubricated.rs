@@ -12,6 +12,7 @@
 
 use super::Kernel;
 use super::Motion;
+use super::StepCoefficients;
 use crate::effects::{LUBRICATION_RANGE, MemoryKernel, wall_excess};
 use crate::integrate::{ForceField, phi12};
 use crate::walls::{Surface, Wall};
@@ -111,6 +112,11 @@ pub(super) struct Carried<'m> {
     pub modes: &'m mut [f64],
     /// The particle's `c` (s^−½).
     pub c: f64,
+    /// The coefficients of the whole step and of half of it, computed once per step: a flight
+    /// of a whole step in one sub-step (most of those near a wall but not in its film) reads
+    /// them instead of an exponential per mode.
+    pub whole: &'m StepCoefficients,
+    pub half: &'m StepCoefficients,
 }
 
 impl Carried<'_> {
@@ -137,6 +143,11 @@ impl Carried<'_> {
     /// once, so an acceleration read there is far from the mean and would be remembered as a
     /// jolt at every sub-step; `dv` is what the slip did.
     fn commit(&mut self, dv: DVec3, dt: f64) {
+        if dt == self.whole.h() {
+            // A sub-step of the whole step: its coefficients are the step's.
+            self.whole.move_on_by(self.modes, dv);
+            return;
+        }
         let n = self.kernel.modes();
         for (k, &rate) in self.kernel.sum.rates.iter().enumerate() {
             let z = -rate * dt;
@@ -193,22 +204,23 @@ impl<M: Motion> Kernel<'_, M> {
         (x, v): (DVec3, DVec3),
         h: f64,
     ) -> Option<(DVec3, DVec3)> {
-        let wall = self.wall_in_reach(lub, field, (k, r), (x, v), h)?;
+        let accel = field.eval(x, v).total(v).length();
+        let wall = self.wall_in_reach(lub, (k, r), (x, v), accel, h)?;
         Some(self.substeps(lub, field, (k, r), (x, v), h, wall, None))
     }
 
     /// The nearest wall, lubrication gap and normal, when the particle may come within the
-    /// effect's range of it in a flight of `h` (s) (its speed and acceleration bound the move).
+    /// effect's range of it in a flight of `h` (s) (its speed and its acceleration's size
+    /// `accel`, m/s², bound the move).
     pub(super) fn wall_in_reach(
         &self,
         lub: &Lubrication,
-        field: &M::Field<DVec3>,
         (k, r): (usize, f64),
         (x, v): (DVec3, DVec3),
+        accel: f64,
         h: f64,
     ) -> Option<(f64, DVec3)> {
         let start = nearest(self.walls, x, r, lub.kind_roughness[k])?;
-        let accel = field.eval(x, v).total(v).length();
         if start.0 - LUBRICATION_RANGE * r >= (2.0 * v.length() + accel * h) * h { None } else { Some(start) }
     }
 
@@ -241,9 +253,13 @@ impl<M: Motion> Kernel<'_, M> {
             let rem = h - t;
             let gap_at = |y: DVec3| (g + (y - x).dot(n)).max(0.0);
             let mut s0 = self.split(lub, field, (k, r), (x, v), (g, n));
+            // With memory: its force now, and half a step on (what a sub-step of the whole
+            // step reads at its middle), in one sweep over the modes.
+            let mut at_half = DVec3::ZERO;
             if let Some(m) = &memory {
-                let (s, d) = m.ahead(0.0);
-                s0 = s0.with_history(n, m.c, s, d);
+                let now;
+                (now, at_half) = m.half.memory_now_and_after(m.modes);
+                s0 = s0.with_history(n, m.c, now, m.kernel.short_weight);
             }
             let vn = v.dot(n).abs();
             let mut dt = if vn * rem > GAP_FRACTION * g { GAP_FRACTION * g / vn } else { rem };
@@ -254,7 +270,11 @@ impl<M: Motion> Kernel<'_, M> {
                 let (xm, vm) = s0.step(n, x, v, 0.5 * dt);
                 let mut sm = self.split(lub, field, (k, r), (xm, vm), (gap_at(xm).max(1e-3 * g), n));
                 if let Some(m) = &memory {
-                    let (s, d) = m.ahead(0.5 * dt);
+                    let (s, d) = if 0.5 * dt == m.half.h() {
+                        (at_half, m.kernel.short_weight + m.half.response())
+                    } else {
+                        m.ahead(0.5 * dt)
+                    };
                     sm = sm.with_history(n, m.c, s, d);
                 }
                 let (x1, v1) = sm.step(n, x, v, dt);

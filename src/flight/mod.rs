@@ -177,7 +177,7 @@ impl<'a, M: Motion> Kernel<'a, M> {
     ) -> Self {
         if let Some(kernel) = kernel {
             let lubrication = match self.nonlinear.take() {
-                Some(NonLinear::Lubrication(lub)) => Some(lub),
+                Some(NonLinear::Lubrication(lub)) => Some((lub, StepCoefficients::new(kernel, 0.5 * step))),
                 _ => None,
             };
             self.nonlinear = Some(NonLinear::Memory(remembered::Memory {

@@ -35,8 +35,9 @@ pub(super) struct Memory<'a> {
     pub start: &'a [f64],
     /// The per-mode coefficients of a whole step (most segments are one).
     pub step: StepCoefficients,
-    /// With wall lubrication too: near a wall, the flight is its sub-steps, carrying the memory.
-    pub lubrication: Option<Lubrication>,
+    /// With wall lubrication too: near a wall, the flight is its sub-steps, carrying the memory;
+    /// with the coefficients of half a step, which a sub-step of a whole step reads at its middle.
+    pub lubrication: Option<(Lubrication, StepCoefficients)>,
 }
 
 /// The per-mode coefficients of a segment of length `h`, the same for every particle:
@@ -81,6 +82,35 @@ impl StepCoefficients {
             c.sum2 += w * h * p2;
         }
         c
+    }
+
+    /// The segment length `h` (s) these coefficients are for.
+    pub(super) fn h(&self) -> f64 {
+        self.h
+    }
+
+    /// `(Σ_k w_k F_k, Σ_k w_k e^{−λ_k h} F_k)` over a particle's modes `f` (its numbers of the
+    /// memory, by component).
+    pub(super) fn memory_now_and_after(&self, f: &[f64]) -> (DVec3, DVec3) {
+        mode_sums(f, &self.weight, &self.weight_decayed)
+    }
+
+    /// `Σ_k w_k h φ1(−λ_k h)` (s^½): how an acceleration constant over `h` adds to the memory.
+    pub(super) fn response(&self) -> f64 {
+        self.sum1
+    }
+
+    /// Moves the modes `f` (by component) over `h` in which the velocity changed by `dv`, the
+    /// acceleration constant: `F_k ← e^{−λ_k h} F_k + (dv/h) h φ1(−λ_k h)`.
+    pub(super) fn move_on_by(&self, f: &mut [f64], dv: DVec3) {
+        let n = f.len() / 3;
+        for (c, part) in f.chunks_exact_mut(n).enumerate() {
+            let a = dv[c] / self.h;
+            let (e, p1) = (&self.decay[..n], &self.phi1[..n]);
+            for i in 0..n {
+                part[i] = part[i] * e[i] + a * p1[i];
+            }
+        }
     }
 }
 
@@ -182,8 +212,10 @@ impl<M: Motion> Kernel<'_, M> {
             let i = seg.memory as usize * width;
             &mem.start[i..i + width]
         };
-        if let Some(lub) = &mem.lubrication
-            && let Some(wall) = self.wall_in_reach(lub, field, (k, r), (seg.x, seg.v), h)
+        let (x0, v0) = (seg.x, seg.v);
+        let l0 = field.eval(x0, v0);
+        if let Some((lub, half)) = &mem.lubrication
+            && let Some(wall) = self.wall_in_reach(lub, (k, r), (x0, v0), l0.total(v0).length(), h)
         {
             // Near a wall: the lubricated sub-steps, with the modes carried in `out` (or in a
             // scratch copy when the caller keeps no memory).
@@ -197,7 +229,7 @@ impl<M: Motion> Kernel<'_, M> {
             };
             modes.fill(0.0);
             modes[..start.len()].copy_from_slice(start);
-            let carried = Carried { kernel, modes, c: mem.kind_rate[k] / r };
+            let carried = Carried { kernel, modes, c: mem.kind_rate[k] / r, whole: &mem.step, half };
             return self.substeps(lub, field, (k, r), (seg.x, seg.v), h, wall, Some(carried));
         }
         // Σ w_k F_k(0) and Σ w_k e^{−λ_k h} F_k(0): the old accelerations' force now and at h.
@@ -208,8 +240,6 @@ impl<M: Motion> Kernel<'_, M> {
         };
         let c = mem.kind_rate[k] / r;
         let inertia = 1.0 + c * kernel.short_weight;
-        let (x0, v0) = (seg.x, seg.v);
-        let l0 = field.eval(x0, v0);
         let a0 = (l0.total(v0) - now * c) / inertia;
         // The drag rate and the fluid velocity at a predicted end (second order needs them to
         // O(h²)); the rest of the end's force balance is linear in a1.
