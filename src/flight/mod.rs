@@ -64,7 +64,8 @@ pub struct Kernel<'a, M> {
 /// sub-steps carry the memory.
 enum NonLinear<'a> {
     Lubrication(lubricated::Lubrication),
-    Memory(remembered::Memory<'a>),
+    // Boxed: the memory's per-step coefficients make it several times the other's size.
+    Memory(Box<remembered::Memory<'a>>),
 }
 
 /// The segment starts with an empty memory (after a contact or a release; docs/physics.md §10): the
@@ -180,7 +181,7 @@ impl<'a, M: Motion> Kernel<'a, M> {
                 Some(NonLinear::Lubrication(lub)) => Some((lub, StepCoefficients::new(kernel, 0.5 * step))),
                 _ => None,
             };
-            self.nonlinear = Some(NonLinear::Memory(remembered::Memory {
+            self.nonlinear = Some(NonLinear::Memory(Box::new(remembered::Memory {
                 lubrication,
                 kind_rate: physics
                     .kinds
@@ -190,7 +191,7 @@ impl<'a, M: Motion> Kernel<'a, M> {
                 step: StepCoefficients::new(kernel, step),
                 kernel,
                 start,
-            }));
+            })));
         }
         self
     }
