@@ -258,7 +258,7 @@ impl<M: Motion> Kernel<'_, M> {
             let mut at_half = DVec3::ZERO;
             if let Some(m) = &memory {
                 let now;
-                (now, at_half) = m.half.memory_now_and_after(m.modes);
+                (now, at_half) = m.half.memory_now_and_after(m.modes, &m.kernel.sum.weights);
                 s0 = s0.with_history(n, m.c, now, m.kernel.short_weight);
             }
             let vn = v.dot(n).abs();

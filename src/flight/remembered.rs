@@ -41,7 +41,7 @@ pub(super) struct Memory<'a> {
 }
 
 /// The per-mode coefficients of a segment of length `h`, the same for every particle:
-/// `e^{−λ_k h}`, `h φ1(−λ_k h)`, `h φ2(−λ_k h)`, the weights `w_k` and `w_k e^{−λ_k h}`, and
+/// `e^{−λ_k h}`, `h φ1(−λ_k h)`, `h φ2(−λ_k h)`, `w_k e^{−λ_k h}`, and
 /// the sums `Σ w_k h φ1`, `Σ w_k h φ2` (s^½).
 #[derive(Debug, Clone, PartialEq)]
 pub struct StepCoefficients {
@@ -49,7 +49,6 @@ pub struct StepCoefficients {
     decay: Vec<f64>,
     phi1: Vec<f64>,
     phi2: Vec<f64>,
-    weight: Vec<f64>,
     weight_decayed: Vec<f64>,
     sum1: f64,
     sum2: f64,
@@ -64,7 +63,6 @@ impl StepCoefficients {
             decay: Vec::with_capacity(n),
             phi1: Vec::with_capacity(n),
             phi2: Vec::with_capacity(n),
-            weight: kernel.sum.weights.clone(),
             weight_decayed: Vec::with_capacity(n),
             sum1: 0.0,
             sum2: 0.0,
@@ -90,9 +88,9 @@ impl StepCoefficients {
     }
 
     /// `(Σ_k w_k F_k, Σ_k w_k e^{−λ_k h} F_k)` over a particle's modes `f` (its numbers of the
-    /// memory, by component).
-    pub(super) fn memory_now_and_after(&self, f: &[f64]) -> (DVec3, DVec3) {
-        mode_sums(f, &self.weight, &self.weight_decayed)
+    /// memory, by component), with the kernel's weights `w`.
+    pub(super) fn memory_now_and_after(&self, f: &[f64], w: &[f64]) -> (DVec3, DVec3) {
+        mode_sums(f, w, &self.weight_decayed)
     }
 
     /// `Σ_k w_k h φ1(−λ_k h)` (s^½): how an acceleration constant over `h` adds to the memory.
@@ -236,7 +234,7 @@ impl<M: Motion> Kernel<'_, M> {
         let (now, later) = if start.is_empty() {
             (DVec3::ZERO, DVec3::ZERO)
         } else {
-            mode_sums(start, &co.weight, &co.weight_decayed)
+            mode_sums(start, &kernel.sum.weights, &co.weight_decayed)
         };
         let c = mem.kind_rate[k] / r;
         let inertia = 1.0 + c * kernel.short_weight;
