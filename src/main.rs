@@ -38,10 +38,11 @@ struct RunArgs {
     /// simulation.output_interval]. Independent of the time step.
     #[arg(long, value_name = "SECONDS")]
     output_interval: Option<f64>,
-    /// In the MCAP, draw particles as spheres on /scene only up to this many particles (the
-    /// point cloud on /particles always has them all).
-    #[arg(long, default_value_t = 1000, value_name = "N")]
-    max_spheres: usize,
+    /// In the MCAP, draw particles as spheres on /scene only up to this many particles [default:
+    /// every count]; beyond N only the point cloud on /particles has them (drawn in pixels, not
+    /// at their size), and the file is about half as large.
+    #[arg(long, value_name = "N")]
+    max_spheres: Option<usize>,
     /// No progress bar (it is also hidden when standard error is not a terminal).
     #[arg(long, short)]
     quiet: bool,
@@ -202,7 +203,7 @@ fn run_scene(args: &RunArgs) -> Result<(String, ExitCode), String> {
         stem: &stem,
         scene_path: &args.scene,
         scene_source: &scene.source,
-        max_spheres: args.max_spheres,
+        max_spheres: args.max_spheres.unwrap_or(usize::MAX),
         // Spin columns only in a scene with rotation: the others keep their files byte for byte.
         rotation: scene.setup.physics.rotation,
     };
@@ -214,7 +215,7 @@ fn run_scene(args: &RunArgs) -> Result<(String, ExitCode), String> {
         output_interval,
         formats: formats.iter().map(|f| f.name().to_string()).collect(),
         stem: stem.clone(),
-        max_spheres: args.max_spheres,
+        max_spheres: args.max_spheres.unwrap_or(usize::MAX),
     };
     let checkpoints = Checkpoints::new(policy, &out.join("checkpoints"), saved_scene, 0.0);
     let driver = Driver::new(Some(&folder), &formats, scene.duration, output_interval)

@@ -5,7 +5,7 @@
 2. Reads the MCAP with the Python `mcap` library and decodes every message with the schema
    stored in the file (`mcap-protobuf-support` for Foxglove's protobuf schemas, `json` for
    /events): channel names and schemas, one /particles message per CSV frame, monotonic log
-   times, the same positions as trajectories.csv.
+   times, the same positions as trajectories.csv, one /event_log line per events.csv row.
 3. Runs `rerun mcap convert` (the `rerun-sdk` package's CLI) and `rerun rrd print`, and
    asserts that /particles became Points3D positions, one row per frame.
 4. A run in two parts: the scene run to half its duration with a checkpoint at the end, then
@@ -42,6 +42,7 @@ EXPECTED = {
     "/walls": ("foxglove.SceneUpdate", "protobuf", "protobuf"),
     "/scene": ("foxglove.SceneUpdate", "protobuf", "protobuf"),
     "/events": ("wetbounce.ContactEvent", "jsonschema", "json"),
+    "/event_log": ("foxglove.Log", "protobuf", "protobuf"),
 }
 
 
@@ -84,7 +85,7 @@ def check_with_mcap_library(path, out):
 
         rows = list(csv.DictReader(open(out / "trajectories.csv")))
         events = list(csv.DictReader(open(out / "events.csv")))
-        clouds, last_time, n_events = [], {}, 0
+        clouds, last_time, n_events, log_lines = [], {}, 0, []
         for schema, channel, message, decoded in reader.iter_decoded_messages(log_time_order=False):
             topic = channel.topic
             check(message.log_time >= last_time.get(topic, 0), f"{topic}: log time goes back")
@@ -99,6 +100,8 @@ def check_with_mcap_library(path, out):
                 event = decoded
                 check(set(event) == set(events[0].keys()), f"event fields {sorted(event)}")
                 n_events += 1
+            elif topic == "/event_log":
+                log_lines.append((message.log_time, decoded.level, decoded.message))
             elif topic in ("/scene", "/walls"):
                 check(len(decoded.entities) > 0, "empty SceneUpdate")
         check(len(clouds) == len(rows), f"{len(clouds)} points, {len(rows)} CSV rows")
@@ -106,6 +109,12 @@ def check_with_mcap_library(path, out):
             check(t_ns == round(float(row["t"]) * 1e9), f"time {t_ns} ns vs {row['t']} s")
             check(xyz == [float(row[a]) for a in "xyz"], f"position {xyz} vs {row}")
         check(n_events == len(events), f"{n_events} /events messages, {len(events)} CSV rows")
+        # The Log panel's lines: one per contact, at its time, naming its particle and outcome.
+        check(len(log_lines) == len(events), f"{len(log_lines)} /event_log lines, {len(events)} events")
+        for (t_ns, level, text), event in zip(log_lines, events):
+            check(t_ns == round(float(event["t"]) * 1e9), f"/event_log at {t_ns} ns vs {event['t']} s")
+            check(text.startswith(f"particle {event['id']} {event['outcome']} on "), f"/event_log line {text!r}")
+            check(level == (3 if event["outcome"] == "deposited" else 2), f"level {level} of {text!r}")
     frames = len({r["t"] for r in rows})
     print(f"check_mcap: {path.name}: channels, schemas, {frames} frames and {n_events} events match the CSV")
     return frames

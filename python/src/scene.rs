@@ -230,7 +230,7 @@ impl Scene {
 
     /// Runs the scene whole (a new :class:`Simulation`, see :meth:`Simulation.run` for the
     /// arguments) and returns the finished simulation.
-    #[pyo3(signature = (out = None, *, formats = None, output_interval = None, max_spheres = 1000, name = None, quiet = false))]
+    #[pyo3(signature = (out = None, *, formats = None, output_interval = None, max_spheres = None, name = None, quiet = false))]
     #[allow(clippy::too_many_arguments)]
     fn run(
         &self,
@@ -238,7 +238,7 @@ impl Scene {
         out: Option<PathBuf>,
         formats: Option<Vec<String>>,
         output_interval: Option<f64>,
-        max_spheres: usize,
+        max_spheres: Option<usize>,
         name: Option<String>,
         quiet: bool,
     ) -> PyResult<Py<Simulation>> {

@@ -175,7 +175,7 @@ impl Simulation {
         (formats, output_interval, max_spheres, name): (
             Option<Vec<String>>,
             Option<f64>,
-            usize,
+            Option<usize>,
             Option<String>,
         ),
         quiet: bool,
@@ -227,7 +227,7 @@ impl Simulation {
             stem: &stem,
             scene_path: &self.scene_path,
             scene_source: &self.source,
-            max_spheres,
+            max_spheres: max_spheres.unwrap_or(usize::MAX),
             // The spin columns as `wetbounce run` decides them, so the files stay the CLI's.
             rotation: self.sim.setup.physics.rotation,
         });
@@ -246,7 +246,7 @@ impl Simulation {
                 output_interval: interval,
                 formats: parsed.iter().map(|f| f.name().to_string()).collect(),
                 stem: stem.clone(),
-                max_spheres,
+                max_spheres: max_spheres.unwrap_or(usize::MAX),
             };
             let folder = dir.join("checkpoints");
             if resumed.is_none() {
@@ -387,7 +387,7 @@ impl Simulation {
             output_interval: self.output_interval,
             formats: Vec::new(),
             stem,
-            max_spheres: 1000,
+            max_spheres: usize::MAX,
         };
         let marks = [wetbounce::output::SinkMark::Statistics(self.collected.stats.clone())];
         wetbounce::run::save_to(&path, &self.sim, &scene, self.position(), &marks)
@@ -433,7 +433,7 @@ impl Simulation {
     /// as the CLI removes them. A folder that cannot be created, like a file that cannot be
     /// written, raises :class:`OutputError` naming it.
     /// ``output_interval`` (s) overrides the scene's, as ``--output-interval``; ``max_spheres``
-    /// is ``--max-spheres``. Without ``out`` nothing is written.
+    /// is ``--max-spheres`` (``None``: spheres at every count). Without ``out`` nothing is written.
     ///
     /// The GIL is released while the engine runs. ``KeyboardInterrupt`` stops the run like
     /// Ctrl-C stops the CLI: the step finishes, every file gets a last frame and is closed,
@@ -452,7 +452,7 @@ impl Simulation {
     /// files written are :attr:`files`. A progress bar shows the simulated time (tqdm's, which
     /// draws in terminals and notebooks, when tqdm is installed; else the CLI's on a
     /// terminal's standard error); ``quiet=True`` leaves it out.
-    #[pyo3(signature = (out = None, *, formats = None, output_interval = None, max_spheres = 1000, name = None, quiet = false, checkpoint_every = None, checkpoint_wall = None, checkpoint_keep = 2))]
+    #[pyo3(signature = (out = None, *, formats = None, output_interval = None, max_spheres = None, name = None, quiet = false, checkpoint_every = None, checkpoint_wall = None, checkpoint_keep = 2))]
     #[allow(clippy::too_many_arguments)]
     pub fn run(
         mut slf: PyRefMut<'_, Self>,
@@ -460,7 +460,7 @@ impl Simulation {
         out: Option<PathBuf>,
         formats: Option<Vec<String>>,
         output_interval: Option<f64>,
-        max_spheres: usize,
+        max_spheres: Option<usize>,
         name: Option<String>,
         quiet: bool,
         checkpoint_every: Option<f64>,

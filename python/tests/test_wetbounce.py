@@ -314,7 +314,9 @@ def test_run_writes_the_cli_files(tmp_path):
     sim = wb.Scene.load(TOLUENE).run(tmp_path / "py", formats=["mcap", "csv"])
     out = tmp_path / "py"
     names = sorted(p.name for p in out.iterdir())
-    assert names == ["events.csv", "summary.json", "toluene_drop.mcap", "trajectories.csv"]
+    assert names == [
+        "events.csv", "summary.json", "toluene_drop.mcap", "toluene_drop_foxglove_layout.json", "trajectories.csv",
+    ]
     summary = json.loads((out / "summary.json").read_text())
     assert summary["interrupted"] is False and summary["signal"] is None
     assert summary["output_errors"] == []
@@ -333,7 +335,7 @@ def test_run_writes_the_cli_files(tmp_path):
         check=True,
         capture_output=True,
     )
-    for name in ("trajectories.csv", "events.csv"):
+    for name in ("trajectories.csv", "events.csv", "toluene_drop_foxglove_layout.json"):
         assert (out / name).read_bytes() == (tmp_path / "cli" / name).read_bytes(), name
     cli_summary = json.loads((tmp_path / "cli" / "summary.json").read_text())
     for d in (summary, cli_summary):

@@ -94,7 +94,7 @@ class Scene:
         *,
         formats: Sequence[str] | None = None,
         output_interval: float | None = None,
-        max_spheres: int = 1000,
+        max_spheres: int | None = None,
         name: str | None = None,
         quiet: bool = False,
     ) -> Simulation:
@@ -120,7 +120,7 @@ class Simulation:
         *,
         formats: Sequence[str] | None = None,
         output_interval: float | None = None,
-        max_spheres: int = 1000,
+        max_spheres: int | None = None,
         name: str | None = None,
         quiet: bool = False,
         checkpoint_every: float | None = None,

@@ -35,7 +35,7 @@ pub const WALL_COLOR: [f32; 4] = [0.6, 0.6, 0.65, 0.25];
 
 /// The centre and half-extent of what a picture of the scene should show: the particles and
 /// the bounded walls.
-fn scene_extent(sim: &Simulation) -> (DVec3, f64) {
+pub fn scene_extent(sim: &Simulation) -> (DVec3, f64) {
     let mut lo = DVec3::splat(f64::INFINITY);
     let mut hi = DVec3::splat(f64::NEG_INFINITY);
     let mut d_max: f64 = 0.0;

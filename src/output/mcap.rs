@@ -10,9 +10,14 @@
 //!   sharing a topic with the per-frame spheres were lost at the first seek; alone on their
 //!   topic, the message at t = 0 is the latest one at every time, and costs nothing to repeat;
 //! - `/scene`: `foxglove.SceneUpdate` — entity `particles` (spheres at true diameter coloured
-//!   by state) per frame while the particle count is at most [`McapOptions::max_spheres`];
+//!   by state) per frame while the particle count is at most [`McapOptions::max_spheres`]
+//!   (every count by default: Foxglove draws point clouds in pixels, so only these spheres
+//!   show the particles at their size);
 //! - `/events`: JSON (`jsonschema`), one message per contact with the columns of `events.csv`
-//!   (in a scene with rotation, `tangential_speed` and `incidence_angle` too).
+//!   (in a scene with rotation, `tangential_speed` and `incidence_angle` too);
+//! - `/event_log`: `foxglove.Log`, the same contacts as one line of text each, for Foxglove's
+//!   Log panel (a list in time order that follows playback); a deposition is a warning, a
+//!   particle removed for a non-finite state an error, a bounce or a hold information.
 //!
 //! Metadata records `scene` (`path`, `source`: the scene file's text) and `wetbounce`
 //! (`version`), so every result carries its inputs.
@@ -26,9 +31,10 @@ use super::geometry::{self, Solid, WALL_COLOR};
 use super::{OutputError, Sink, SinkMark};
 use crate::contact::ContactEvent;
 use crate::pipeline::{LostParticle, Simulation};
+use foxglove::messages::log::Level;
 use foxglove::messages::packed_element_field::NumericType;
 use foxglove::messages::{
-    Color, CubePrimitive, CylinderPrimitive, PackedElementField, Point3, PointCloud, Pose, Quaternion,
+    Color, CubePrimitive, CylinderPrimitive, Log, PackedElementField, Point3, PointCloud, Pose, Quaternion,
     SceneEntity, SceneUpdate, SpherePrimitive, Timestamp, TriangleListPrimitive, Vector3,
 };
 use foxglove::{
@@ -40,6 +46,7 @@ use std::collections::BTreeMap;
 use std::path::PathBuf;
 use std::sync::{Arc, OnceLock};
 
+pub mod layout;
 mod recover;
 pub use recover::{Recovered, recover};
 
@@ -51,6 +58,8 @@ pub const WALLS_TOPIC: &str = "/walls";
 pub const SCENE_TOPIC: &str = "/scene";
 /// Topic of the contact events.
 pub const EVENTS_TOPIC: &str = "/events";
+/// Topic of the contact events as log lines.
+pub const EVENT_LOG_TOPIC: &str = "/event_log";
 /// The frame every message is expressed in.
 pub const FRAME_ID: &str = "world";
 
@@ -63,6 +72,11 @@ const SPIN_POINT_STRIDE: u32 = POINT_STRIDE + 8 * 3;
 /// infinite St in vacuum) are written as `null`, which JSON needs. A particle taken out because
 /// its state became non-finite is an event of kind `removed`, outcome `non_finite`, `other`
 /// empty and the numbers `null`.
+///
+/// Each property has one type, `number` even where the value may be `null`: Foxglove's reader
+/// of JSON schemas (the one of its MCAP support, which Lichtblick shares) takes a single type
+/// per field and refused the whole topic for `["number", "null"]` ("Unsupported type"); it
+/// reads a `null` value as empty. The descriptions say where a `null` can be.
 const EVENT_SCHEMA: &str = r#"{
   "title": "wetbounce.ContactEvent",
   "description": "One contact: the columns of events.csv",
@@ -72,10 +86,10 @@ const EVENT_SCHEMA: &str = r#"{
     "id": {"type": "integer", "description": "particle id"},
     "other": {"type": "string", "description": "wall name or other particle's id"},
     "kind": {"type": "string", "enum": ["wall", "particle", "removed"]},
-    "normal_speed": {"type": ["number", "null"], "description": "V_inf (m/s)"},
-    "st": {"type": ["number", "null"], "description": "Stokes number"},
-    "eps": {"type": ["number", "null"], "description": "restitution applied"},
-    "contact_time": {"type": ["number", "null"], "description": "t_c (s)"},
+    "normal_speed": {"type": "number", "description": "V_inf (m/s); null if not finite"},
+    "st": {"type": "number", "description": "Stokes number; null if infinite (vacuum)"},
+    "eps": {"type": "number", "description": "restitution applied; null if not finite"},
+    "contact_time": {"type": "number", "description": "t_c (s); null if not finite"},
     "outcome": {"type": "string", "enum": ["held", "bounced", "deposited", "non_finite"]}
   },
   "required": ["t", "id", "other", "kind", "normal_speed", "st", "eps", "contact_time", "outcome"]
@@ -83,8 +97,8 @@ const EVENT_SCHEMA: &str = r#"{
 
 /// The two properties [`EVENT_SCHEMA`] gains in a scene with rotation, as in `events.csv`.
 const SPIN_EVENT_PROPERTIES: &str = r#",
-    "tangential_speed": {"type": ["number", "null"], "description": "contact point's tangential speed at impact (m/s)"},
-    "incidence_angle": {"type": ["number", "null"], "description": "angle of the velocity from the normal (rad)"}"#;
+    "tangential_speed": {"type": "number", "description": "contact point's tangential speed at impact (m/s); null if not finite"},
+    "incidence_angle": {"type": "number", "description": "angle of the velocity from the normal (rad); null if not finite"}"#;
 
 /// [`EVENT_SCHEMA`], with [`SPIN_EVENT_PROPERTIES`] after its last property when `rotation`.
 fn event_schema(rotation: bool) -> String {
@@ -100,7 +114,8 @@ fn event_schema(rotation: bool) -> String {
 #[derive(Debug, Clone)]
 pub struct McapOptions {
     /// Draw spheres on `/scene` only while there are at most this many particles: beyond
-    /// that the point cloud carries the particles and the file stays small.
+    /// that only the point cloud carries the particles, and the file is about half as large
+    /// (`usize::MAX`: always).
     pub max_spheres: usize,
     /// Path of the scene file, recorded as metadata.
     pub scene_path: String,
@@ -108,7 +123,8 @@ pub struct McapOptions {
     pub scene_source: String,
 }
 
-/// Writes `/particles`, `/walls`, `/scene` and `/events` to an MCAP file (zstd chunks).
+/// Writes `/particles`, `/walls`, `/scene`, `/events` and `/event_log` to an MCAP file (zstd
+/// chunks).
 pub struct McapSink {
     path: PathBuf,
     options: McapOptions,
@@ -126,11 +142,14 @@ pub struct McapSink {
     walls: Channel<SceneUpdate>,
     scene: Channel<SceneUpdate>,
     events: Arc<RawChannel>,
+    event_log: Channel<Log>,
     walls_written: bool,
     /// Which part of the run this file is: 1, and one more for each resumed part
     /// (`<stem>.part<N>.mcap`, [`SinkMark::Parts`]).
     part: u32,
     spheres_shown: bool,
+    /// Where the layout fitted to the scene goes ([`layout`]), written with the walls.
+    layout: Option<PathBuf>,
     json: Vec<u8>,
     order: Vec<usize>,
     rotation: bool,
@@ -183,6 +202,13 @@ impl McapSink {
         self
     }
 
+    /// Also writes, at the first frame, the Foxglove layout fitted to the scene at `path`
+    /// ([`layout::fitted`]).
+    pub fn with_layout(mut self, path: impl Into<PathBuf>) -> Self {
+        self.layout = Some(path.into());
+        self
+    }
+
     /// Creates the file at `path` and writes the metadata; with `rotation` (the scene's
     /// `setup.physics.rotation`) the particles carry their spin and the events their tangential
     /// speed and incidence angle. A scene without rotation keeps the file it had.
@@ -222,6 +248,7 @@ impl McapSink {
             .schema(Schema::new("wetbounce.ContactEvent", "jsonschema", event_schema(rotation).into_bytes()))
             .build_raw()
             .map_err(|e| err(&e))?;
+        let event_log = ChannelBuilder::new(EVENT_LOG_TOPIC).context(&ctx).build::<Log>();
         // The header and metadata reach the file now: a file that cannot be written fails before
         // the run starts, and the first chunk starts with an empty buffer.
         writer.flush().map_err(|e| err(&e))?;
@@ -236,9 +263,11 @@ impl McapSink {
             walls,
             scene,
             events,
+            event_log,
             walls_written: false,
             part: 1,
             spheres_shown: false,
+            layout: None,
             json: Vec::new(),
             order: Vec::new(),
             rotation,
@@ -384,6 +413,23 @@ impl McapSink {
             log_time_ns(sim.world.time),
         );
     }
+    /// Writes one contact on `/events` (JSON) and on `/event_log` (a line of text), at `t`.
+    fn write_event(&mut self, t: f64, message: &EventMessage) -> Result<(), OutputError> {
+        self.json.clear();
+        serde_json::to_writer(&mut self.json, message).map_err(|err| OutputError::write(&self.path, err))?;
+        self.events.log_with_meta(&self.json, PartialMetadata::with_log_time(log_time_ns(t)));
+        self.check()?;
+        let line = Log {
+            timestamp: Some(stamp(t)),
+            level: event_level(message.outcome) as i32,
+            message: message.line(),
+            name: "wetbounce".into(),
+            file: String::new(),
+            line: 0,
+        };
+        self.event_log.log_with_time(&line, log_time_ns(t));
+        self.check()
+    }
 }
 
 /// An `/events` message: the columns of `events.csv`, in its order.
@@ -410,6 +456,46 @@ fn number(x: f64) -> Option<f64> {
     x.is_finite().then_some(x)
 }
 
+/// The Log panel's level of an outcome: what a user filters by. A deposition ends a
+/// particle's bouncing (a warning), a particle taken out is a fault (an error).
+fn event_level(outcome: &str) -> Level {
+    match outcome {
+        "deposited" => Level::Warning,
+        "non_finite" => Level::Error,
+        _ => Level::Info,
+    }
+}
+
+impl EventMessage<'_> {
+    /// The contact as one line of text, e.g. `particle 3 bounced on wall bottom: V∞ = 0.12 m/s,
+    /// St = 45.1, ε = 0.62, t_c = 2.1e-3 s`.
+    fn line(&self) -> String {
+        let num = |x: Option<f64>| x.map_or_else(|| "∞".to_string(), |v| format!("{v:.3}"));
+        if self.kind == "removed" {
+            return format!("particle {} removed: its state became non-finite", self.id);
+        }
+        let mut line = format!(
+            "particle {} {} on {} {}: V∞ = {} m/s, St = {}, ε = {}, t_c = {} s",
+            self.id,
+            self.outcome,
+            self.kind,
+            self.other,
+            num(self.normal_speed),
+            num(self.st),
+            num(self.eps),
+            // A deposit has no contact time: 0, not 0.000e0.
+            self.contact_time.map_or_else(
+                || "∞".to_string(),
+                |v| if v == 0.0 { "0".to_string() } else { format!("{v:.3e}") }
+            ),
+        );
+        if let Some(Some(angle)) = self.incidence_angle {
+            line.push_str(&format!(", incidence {:.1}°", angle.to_degrees()));
+        }
+        line
+    }
+}
+
 impl Sink for McapSink {
     fn frame(&mut self, sim: &Simulation) -> Result<(), OutputError> {
         // Checked before and after each message: the writer must get no call after a failed one.
@@ -418,6 +504,11 @@ impl Sink for McapSink {
             self.write_walls(sim);
             self.walls_written = true;
             self.check()?;
+            if let Some(path) = &self.layout {
+                let (center, half) = geometry::scene_extent(sim);
+                std::fs::write(path, layout::fitted(center, half))
+                    .map_err(|e| OutputError::write(path, e))?;
+            }
         }
         self.write_points(sim);
         self.check()?;
@@ -454,11 +545,7 @@ impl Sink for McapSink {
                 tangential_speed: self.rotation.then(|| number(e.tangential_speed)),
                 incidence_angle: self.rotation.then(|| number(e.incidence_angle)),
             };
-            self.json.clear();
-            serde_json::to_writer(&mut self.json, &message)
-                .map_err(|err| OutputError::write(&self.path, err))?;
-            self.events.log_with_meta(&self.json, PartialMetadata::with_log_time(log_time_ns(e.time)));
-            self.check()?;
+            self.write_event(e.time, &message)?;
         }
         Ok(())
     }
@@ -479,11 +566,7 @@ impl Sink for McapSink {
                 tangential_speed: self.rotation.then_some(None),
                 incidence_angle: self.rotation.then_some(None),
             };
-            self.json.clear();
-            serde_json::to_writer(&mut self.json, &message)
-                .map_err(|err| OutputError::write(&self.path, err))?;
-            self.events.log_with_meta(&self.json, PartialMetadata::with_log_time(log_time_ns(l.time)));
-            self.check()?;
+            self.write_event(l.time, &message)?;
         }
         Ok(())
     }
@@ -515,5 +598,16 @@ mod tests {
             v["properties"]["tangential_speed"].is_object() && v["properties"]["incidence_angle"].is_object()
         );
         assert_eq!(event_schema(false), EVENT_SCHEMA);
+    }
+
+    #[test]
+    fn every_event_property_has_one_type_as_foxglove_reads_schemas() {
+        // Foxglove's (and Lichtblick's) JSON-schema reader refuses the whole topic when a
+        // property's type is a list, such as ["number", "null"].
+        let v: serde_json::Value = serde_json::from_str(&event_schema(true)).unwrap();
+        for (name, property) in v["properties"].as_object().unwrap() {
+            let ty = property["type"].as_str();
+            assert!(matches!(ty, Some("number" | "integer" | "string")), "{name}: {}", property["type"]);
+        }
     }
 }

@@ -3,7 +3,8 @@
 //! (a `.pvd` beside 1,001 frames of which it lists 11, an old MCAP beside the new CSV; issue 25,
 //! finding 13).
 //!
-//! Only the names a run itself writes are touched: `<stem>.mcap`, `<stem>.rrd`,
+//! Only the names a run itself writes are touched: `<stem>.mcap` and
+//! `<stem>_foxglove_layout.json`, `<stem>.rrd`,
 //! `trajectories.csv`, `events.csv`, `<stem>.pvd`, `<stem>_walls.vtp` and, inside
 //! `<stem>_vtk/`, the frames `particles_NNNNNN.vtp` (the folder itself once empty). A user's
 //! own files in the folder are never removed.
@@ -59,6 +60,7 @@ pub fn remove(out: &Path, stem: &str, written: &[PathBuf]) -> Removed {
     let mut result = Removed::default();
     let files = [
         format!("{stem}.mcap"),
+        super::mcap::layout::file_name(stem),
         "trajectories.csv".into(),
         "events.csv".into(),
         format!("{stem}.rrd"),

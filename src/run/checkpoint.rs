@@ -96,7 +96,7 @@ pub struct SavedScene {
     pub formats: Vec<String>,
     /// The files' stem.
     pub stem: String,
-    /// Largest particle count drawn as spheres in the MCAP.
+    /// Largest particle count drawn as spheres in the MCAP (`usize::MAX`: every count).
     pub max_spheres: usize,
 }
 

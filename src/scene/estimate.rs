@@ -29,10 +29,13 @@ pub const CSV_ROW_BYTES: f64 = 100.0;
 /// [`CSV_ROW_BYTES`] with the three spin columns of a scene with rotation: measured 120 B
 /// (`scenes/settling_bed_friction.toml` for 0.2 s, 2000 beads settling), rounded up.
 pub const CSV_ROW_SPIN_BYTES: f64 = 130.0;
-/// Bytes written per particle and frame to the MCAP (zstd chunks of the point cloud and, up
-/// to `--max-spheres`, the sphere entities): measured 58 B on the settling bed, 69 B with its
-/// 2000 spheres drawn, 2.4 B on the dilute lattice (zstd packs its regular values); the larger.
-pub const MCAP_PARTICLE_BYTES: f64 = 70.0;
+/// Bytes written per particle and frame to the MCAP (zstd chunks of the point cloud, the
+/// spheres, and the contacts on `/events` and `/event_log`): measured 83 B on the settling bed
+/// (`scenes/settling_bed.toml`, 50.0 MB), 89 B on the column (`scenes/column.toml`, 65.7 MB
+/// over 742,000 particle-frames), 2.4 B on the dilute lattice (zstd packs its regular
+/// values); rounded up. A burst of contacts writes more (121 B over the first 0.2 s of a
+/// 10⁴-bead bed, `tools/foxglove/size.sh`), but not for a whole run.
+pub const MCAP_PARTICLE_BYTES: f64 = 90.0;
 /// Bytes of an MCAP frame besides its particles (the frame's scene update, the walls'
 /// entities): measured 480 B per frame on the one-drop scene.
 pub const MCAP_FRAME_BYTES: f64 = 500.0;

@@ -81,8 +81,16 @@ impl Surface for Cylinder {
 }
 
 impl Drawable for Cylinder {
+    /// A cylinder with both ends finite is bounded: the box around its two end circles, which
+    /// reach `radius · √(1 − a_i²)` from the axis along each coordinate `i`. (Unbounded, it has
+    /// no box, and a picture is sized from the rest of the scene.)
     fn bounds(&self) -> Option<(DVec3, DVec3)> {
-        None
+        if !(self.lo.is_finite() && self.hi.is_finite()) {
+            return None;
+        }
+        let reach = self.radius * (DVec3::ONE - self.axis * self.axis).max(DVec3::ZERO).sqrt();
+        let (a, b) = (self.base + self.lo * self.axis, self.base + self.hi * self.axis);
+        Some((a.min(b) - reach, a.max(b) + reach))
     }
 
     /// An unbounded end stops where the picture's extent does.
@@ -102,6 +110,21 @@ impl Drawable for Cylinder {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_finite_cylinder_is_bounded_by_its_end_circles_and_an_infinite_one_is_not() {
+        let column = Cylinder { base: DVec3::ZERO, axis: DVec3::Z, radius: 0.025, lo: 0.0, hi: 0.5 };
+        let (lo, hi) = column.bounds().unwrap();
+        assert_eq!((lo, hi), (DVec3::new(-0.025, -0.025, 0.0), DVec3::new(0.025, 0.025, 0.5)));
+        // Tilted 45° in the x–z plane: the end circles reach r/√2 along x and z, r along y.
+        let a = DVec3::new(1.0, 0.0, 1.0).normalize();
+        let tilted = Cylinder { base: DVec3::ZERO, axis: a, radius: 1.0, lo: 0.0, hi: 2.0 };
+        let (lo, hi) = tilted.bounds().unwrap();
+        let h = std::f64::consts::FRAC_1_SQRT_2;
+        assert!((lo - DVec3::new(-h, -1.0, -h)).abs().max_element() < 1e-12, "{lo}");
+        assert!((hi - DVec3::new(2.0 * h + h, 1.0, 2.0 * h + h)).abs().max_element() < 1e-12, "{hi}");
+        assert!(Cylinder { hi: f64::INFINITY, ..column }.bounds().is_none());
+    }
 
     #[test]
     fn radial_move_touches_when_centre_reaches_radius_minus_r() {

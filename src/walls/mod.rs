@@ -114,7 +114,8 @@ pub type Part = u32;
 /// What a picture of a wall needs: where a bounded shape is, and the solid that stands for it.
 pub trait Drawable {
     /// The box `(min, max)` (m) that frames the shape in a picture, `None` when it does not
-    /// frame the scene (a plane, a cylinder: they are drawn to the size of what else is there).
+    /// frame the scene (a plane, a cylinder open at an end: they are drawn to the size of what
+    /// else is there).
     fn bounds(&self) -> Option<(DVec3, DVec3)>;
     /// The solid that represents the shape in a picture centred at `center` with half-size
     /// `half` (m): an unbounded shape is cut to a patch there.

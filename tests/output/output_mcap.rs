@@ -6,7 +6,8 @@ use crate::common;
 
 use common::fixture::BeadOnFloor;
 use foxglove::Decode;
-use foxglove::messages::{PointCloud, SceneUpdate};
+use foxglove::messages::log::Level;
+use foxglove::messages::{Log, PointCloud, SceneUpdate};
 use std::collections::BTreeMap;
 use std::path::Path;
 use std::process::Command;
@@ -79,6 +80,7 @@ fn mcap_has_foxglove_channels_one_cloud_per_frame_and_the_csv_positions() {
     assert_eq!(
         d.channels,
         BTreeMap::from([
+            ch("/event_log", "foxglove.Log", "protobuf", "protobuf"),
             ch("/events", "wetbounce.ContactEvent", "jsonschema", "json"),
             ch("/particles", "foxglove.PointCloud", "protobuf", "protobuf"),
             ch("/scene", "foxglove.SceneUpdate", "protobuf", "protobuf"),
@@ -164,6 +166,27 @@ fn mcap_has_foxglove_channels_one_cloud_per_frame_and_the_csv_positions() {
         assert_eq!(*log_time, (row[0].parse::<f64>().unwrap() * 1e9).round() as u64);
     }
 
+    // The same contacts as lines of Foxglove's Log panel, at the same times, the outcome and
+    // the numbers in words; a deposition is a warning.
+    let lines = &d.messages["/event_log"];
+    assert_eq!(lines.len(), event_rows.len());
+    for ((log_time, data), row) in lines.iter().zip(&event_rows) {
+        let log = Log::decode(&data[..]).unwrap();
+        assert_eq!(*log_time, (row[0].parse::<f64>().unwrap() * 1e9).round() as u64);
+        let ts = log.timestamp.unwrap();
+        assert_eq!(ts.sec() as u64 * 1_000_000_000 + ts.nsec() as u64, *log_time);
+        let outcome = row[header.iter().position(|h| *h == "outcome").unwrap()];
+        let wall = row[header.iter().position(|h| *h == "other").unwrap()];
+        assert!(
+            log.message.starts_with(&format!("particle 0 {outcome} on wall {wall}: V∞ = ")),
+            "{}",
+            log.message
+        );
+        let level = if outcome == "deposited" { Level::Warning } else { Level::Info };
+        assert_eq!(log.level, level as i32, "{}", log.message);
+        assert_eq!(log.name, "wetbounce");
+    }
+
     // Every result carries its inputs.
     let source = std::fs::read_to_string(scene).unwrap();
     assert_eq!(d.metadata["scene"]["source"], source);
@@ -246,6 +269,51 @@ material = {{ youngs_modulus = 6.0e10, poisson_ratio = 0.23 }}
     // Two particles, a limit of one sphere: no spheres entity at all.
     assert!(!d.messages.contains_key("/scene"));
     assert_eq!(d.messages["/particles"].len(), 3);
+}
+
+#[test]
+fn spheres_at_true_size_at_any_particle_count_unless_limited() {
+    // A lattice of more than the 1000 beads that once ended the spheres: every one is a sphere of its
+    // own diameter at its own position, in every frame, by default.
+    let dir = tempfile::tempdir().unwrap();
+    let scene = dir.path().join("lattice.toml");
+    let text = BeadOnFloor::new()
+        .dt(1e-4)
+        .duration(2e-4)
+        .output_interval(1e-4)
+        .fluid(1000.0, 1e-3)
+        .gravity([0.0, 0.0, -9.81])
+        .effects("gravity = {}")
+        .extra(
+            "[[lattice]]\nkind = \"glass\"\ndiameter = 1e-3\nmin = [0.0, 0.0, 0.01]\n\
+             max = [0.022, 0.022, 0.032]\nspacing = 2e-3",
+        )
+        .toml();
+    std::fs::write(&scene, text).unwrap();
+    let d = decode(&run_with_mcap_and_csv(&scene, dir.path(), &[]));
+    let frames = &d.messages["/scene"];
+    assert_eq!(frames.len(), 3);
+    for ((_, spheres), (_, points)) in frames.iter().zip(&d.messages["/particles"]) {
+        let cloud = PointCloud::decode(&points[..]).unwrap();
+        let n = cloud.data.len() / cloud.point_stride as usize;
+        assert!(n > 1000, "{n} beads");
+        let update = SceneUpdate::decode(&spheres[..]).unwrap();
+        let spheres = &update.entities[0].spheres;
+        assert_eq!(spheres.len(), n);
+        let fields = field_offsets(&cloud);
+        for (i, s) in spheres.iter().enumerate() {
+            let at = i * cloud.point_stride as usize;
+            let p = s.pose.as_ref().unwrap().position.as_ref().unwrap();
+            let xyz = ["x", "y", "z"].map(|a| f64_at(&cloud.data, at + fields[a].0 as usize));
+            assert_eq!([p.x, p.y, p.z], xyz, "sphere {i} where its point is");
+            let d = f64_at(&cloud.data, at + fields["diameter"].0 as usize);
+            assert_eq!(s.size.as_ref().unwrap().x, d, "sphere {i} at its diameter");
+        }
+    }
+    // `--max-spheres` still leaves them out for a smaller file.
+    let limited = tempfile::tempdir().unwrap();
+    let d = decode(&run_with_mcap_and_csv(&scene, limited.path(), &["--max-spheres", "1000"]));
+    assert!(!d.messages.contains_key("/scene"));
 }
 
 /// The latest message of `topic` logged at or before `t_ns`, as a viewer that seeks shows it.
