@@ -31,7 +31,6 @@ use super::geometry::{self, Solid, WALL_COLOR};
 use super::{OutputError, Sink, SinkMark};
 use crate::contact::ContactEvent;
 use crate::pipeline::{LostParticle, Simulation};
-use foxglove::messages::log::Level;
 use foxglove::messages::packed_element_field::NumericType;
 use foxglove::messages::{
     Color, CubePrimitive, CylinderPrimitive, Log, PackedElementField, Point3, PointCloud, Pose, Quaternion,
@@ -46,8 +45,10 @@ use std::collections::BTreeMap;
 use std::path::PathBuf;
 use std::sync::{Arc, OnceLock};
 
+mod events;
 pub mod layout;
 mod recover;
+use events::{EventMessage, event_level, event_schema, number};
 pub use recover::{Recovered, recover};
 
 /// Topic of the point clouds.
@@ -67,48 +68,6 @@ pub const FRAME_ID: &str = "world";
 const POINT_STRIDE: u32 = 8 * 3 + 4 + 8 + 8 + 1 + 2;
 /// Bytes per point of `/particles` in a scene with rotation: the above, then wx, wy, wz.
 const SPIN_POINT_STRIDE: u32 = POINT_STRIDE + 8 * 3;
-
-/// JSON schema of an `/events` message: the columns of `events.csv`. Non-finite numbers (an
-/// infinite St in vacuum) are written as `null`, which JSON needs. A particle taken out because
-/// its state became non-finite is an event of kind `removed`, outcome `non_finite`, `other`
-/// empty and the numbers `null`.
-///
-/// Each property has one type, `number` even where the value may be `null`: Foxglove's reader
-/// of JSON schemas (the one of its MCAP support, which Lichtblick shares) takes a single type
-/// per field and refused the whole topic for `["number", "null"]` ("Unsupported type"); it
-/// reads a `null` value as empty. The descriptions say where a `null` can be.
-const EVENT_SCHEMA: &str = r#"{
-  "title": "wetbounce.ContactEvent",
-  "description": "One contact: the columns of events.csv",
-  "type": "object",
-  "properties": {
-    "t": {"type": "number", "description": "impact time (s)"},
-    "id": {"type": "integer", "description": "particle id"},
-    "other": {"type": "string", "description": "wall name or other particle's id"},
-    "kind": {"type": "string", "enum": ["wall", "particle", "removed"]},
-    "normal_speed": {"type": "number", "description": "V_inf (m/s); null if not finite"},
-    "st": {"type": "number", "description": "Stokes number; null if infinite (vacuum)"},
-    "eps": {"type": "number", "description": "restitution applied; null if not finite"},
-    "contact_time": {"type": "number", "description": "t_c (s); null if not finite"},
-    "outcome": {"type": "string", "enum": ["held", "bounced", "deposited", "non_finite"]}
-  },
-  "required": ["t", "id", "other", "kind", "normal_speed", "st", "eps", "contact_time", "outcome"]
-}"#;
-
-/// The two properties [`EVENT_SCHEMA`] gains in a scene with rotation, as in `events.csv`.
-const SPIN_EVENT_PROPERTIES: &str = r#",
-    "tangential_speed": {"type": "number", "description": "contact point's tangential speed at impact (m/s); null if not finite"},
-    "incidence_angle": {"type": "number", "description": "angle of the velocity from the normal (rad); null if not finite"}"#;
-
-/// [`EVENT_SCHEMA`], with [`SPIN_EVENT_PROPERTIES`] after its last property when `rotation`.
-fn event_schema(rotation: bool) -> String {
-    let last = r#""enum": ["held", "bounced", "deposited", "non_finite"]}"#;
-    if rotation {
-        EVENT_SCHEMA.replacen(last, &format!("{last}{SPIN_EVENT_PROPERTIES}"), 1)
-    } else {
-        EVENT_SCHEMA.to_string()
-    }
-}
 
 /// Settings of the MCAP sink.
 #[derive(Debug, Clone)]
@@ -432,70 +391,6 @@ impl McapSink {
     }
 }
 
-/// An `/events` message: the columns of `events.csv`, in its order.
-#[derive(serde::Serialize)]
-struct EventMessage<'a> {
-    t: Option<f64>,
-    id: u32,
-    other: String,
-    kind: &'a str,
-    normal_speed: Option<f64>,
-    st: Option<f64>,
-    eps: Option<f64>,
-    contact_time: Option<f64>,
-    outcome: &'a str,
-    // Left out of the message (not `null`) in a scene without rotation, which keeps its bytes.
-    #[serde(skip_serializing_if = "Option::is_none")]
-    tangential_speed: Option<Option<f64>>,
-    #[serde(skip_serializing_if = "Option::is_none")]
-    incidence_angle: Option<Option<f64>>,
-}
-
-/// A number, or `null` for a non-finite one (JSON has no infinity).
-fn number(x: f64) -> Option<f64> {
-    x.is_finite().then_some(x)
-}
-
-/// The Log panel's level of an outcome: what a user filters by. A deposition ends a
-/// particle's bouncing (a warning), a particle taken out is a fault (an error).
-fn event_level(outcome: &str) -> Level {
-    match outcome {
-        "deposited" => Level::Warning,
-        "non_finite" => Level::Error,
-        _ => Level::Info,
-    }
-}
-
-impl EventMessage<'_> {
-    /// The contact as one line of text, e.g. `particle 3 bounced on wall bottom: V∞ = 0.12 m/s,
-    /// St = 45.1, ε = 0.62, t_c = 2.1e-3 s`.
-    fn line(&self) -> String {
-        let num = |x: Option<f64>| x.map_or_else(|| "∞".to_string(), |v| format!("{v:.3}"));
-        if self.kind == "removed" {
-            return format!("particle {} removed: its state became non-finite", self.id);
-        }
-        let mut line = format!(
-            "particle {} {} on {} {}: V∞ = {} m/s, St = {}, ε = {}, t_c = {} s",
-            self.id,
-            self.outcome,
-            self.kind,
-            self.other,
-            num(self.normal_speed),
-            num(self.st),
-            num(self.eps),
-            // A deposit has no contact time: 0, not 0.000e0.
-            self.contact_time.map_or_else(
-                || "∞".to_string(),
-                |v| if v == 0.0 { "0".to_string() } else { format!("{v:.3e}") }
-            ),
-        );
-        if let Some(Some(angle)) = self.incidence_angle {
-            line.push_str(&format!(", incidence {:.1}°", angle.to_degrees()));
-        }
-        line
-    }
-}
-
 impl Sink for McapSink {
     fn frame(&mut self, sim: &Simulation) -> Result<(), OutputError> {
         // Checked before and after each message: the writer must get no call after a failed one.
@@ -584,30 +479,5 @@ impl Sink for McapSink {
         }
         let mut file = w.close().map_err(|e| self.fail(&e))?;
         file.sync().map_err(|e| self.fail(&e))
-    }
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn the_rotation_event_schema_is_json_with_two_more_properties() {
-        let v: serde_json::Value = serde_json::from_str(&event_schema(true)).unwrap();
-        assert!(
-            v["properties"]["tangential_speed"].is_object() && v["properties"]["incidence_angle"].is_object()
-        );
-        assert_eq!(event_schema(false), EVENT_SCHEMA);
-    }
-
-    #[test]
-    fn every_event_property_has_one_type_as_foxglove_reads_schemas() {
-        // Foxglove's (and Lichtblick's) JSON-schema reader refuses the whole topic when a
-        // property's type is a list, such as ["number", "null"].
-        let v: serde_json::Value = serde_json::from_str(&event_schema(true)).unwrap();
-        for (name, property) in v["properties"].as_object().unwrap() {
-            let ty = property["type"].as_str();
-            assert!(matches!(ty, Some("number" | "integer" | "string")), "{name}: {}", property["type"]);
-        }
     }
 }
