@@ -151,17 +151,16 @@ impl Folder<'_> {
                     scene_path: self.scene_path.display().to_string(),
                     scene_source: self.scene_source.to_owned(),
                 };
-                let sink = McapSink::create_for(&file, options, rotation)?.as_part(part);
+                let mut sink = McapSink::create_for(&file, options, rotation)?.as_part(part);
                 written.push(file);
                 // The layout fitted to the scene comes with the first part; a resumed run's
                 // scene is the same.
                 if part == 1 {
                     let layout = out.join(super::mcap::layout::file_name(stem));
-                    sinks.push(Box::new(sink.with_layout(&layout)));
+                    sink = sink.with_layout(&layout);
                     written.push(layout);
-                } else {
-                    sinks.push(Box::new(sink));
                 }
+                sinks.push(Box::new(sink));
             }
             if formats.contains(&Format::Csv) {
                 let t = out.join("trajectories.csv");

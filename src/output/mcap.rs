@@ -73,8 +73,8 @@ const SPIN_POINT_STRIDE: u32 = POINT_STRIDE + 8 * 3;
 #[derive(Debug, Clone)]
 pub struct McapOptions {
     /// Draw spheres on `/scene` only while there are at most this many particles: beyond
-    /// that only the point cloud carries the particles, and the file is about half as large
-    /// (`usize::MAX`: always).
+    /// that only the point cloud carries the particles, and the file is 1.2 to 1.4 times
+    /// smaller (`usize::MAX`: always).
     pub max_spheres: usize,
     /// Path of the scene file, recorded as metadata.
     pub scene_path: String,
