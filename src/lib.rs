@@ -7,6 +7,7 @@
 //! higher one):
 //!
 //! - [`files`]: the rule every file read follows (a regular file, under a size cap);
+//! - [`agree`]: what the ranks of a run split over MPI agree on inside a step;
 //! - [`numeric`]: four particles at once (lane groups) and fixed powers by tables;
 //! - [`correlations`]: the paper's formulas as pure functions;
 //! - [`particles`], [`fluid`], [`walls`]: what the world is made of;
@@ -20,9 +21,11 @@
 //!   stage-ordered `step()`;
 //! - [`scene`]: the TOML scene format, validated with errors that name file, key and value;
 //! - [`output`]: sinks for trajectories and contact events;
-//! - [`run`]: the driver that steps a simulation and feeds the sinks.
+//! - [`run`]: the driver that steps a simulation and feeds the sinks;
+//! - [`ranks`]: one run on several MPI ranks, identical to one process.
 #![warn(missing_docs)]
 
+pub mod agree;
 pub mod contact;
 pub mod correlations;
 pub mod effects;
@@ -35,6 +38,7 @@ pub mod numeric;
 pub mod output;
 pub mod particles;
 pub mod pipeline;
+pub mod ranks;
 pub mod run;
 pub mod scene;
 pub mod walls;

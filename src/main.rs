@@ -7,6 +7,8 @@ use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 use wetbounce::fluid::field::OutsideField;
 use wetbounce::output::{Folder, Format, OutputError, Progress};
+use wetbounce::ranks::Split;
+use wetbounce::ranks::comm::Comm;
 use wetbounce::run::checkpoint::SavedScene;
 use wetbounce::run::{CheckpointPolicy, Checkpoints, Driver, Ended, RunReport, StopSignals};
 use wetbounce::scene::{LoadOptions, Scene, field_report, kind_reports};
@@ -143,7 +145,17 @@ enum Command {
 fn main() -> ExitCode {
     let cli = Cli::parse();
     let result = match cli.command {
-        Command::Run(args) => run_scene(&args),
+        Command::Run(args) => {
+            // Under `mpirun -np K` (K > 1) the run is split over the ranks (docs/distributed.md);
+            // started alone, an MPI build is one process like any other.
+            #[cfg(feature = "mpi")]
+            let mpi = wetbounce::ranks::mpi::Mpi::init();
+            #[cfg(feature = "mpi")]
+            let comm = mpi.as_ref().map(|m| m as &dyn Comm).filter(|c| c.size() > 1);
+            #[cfg(not(feature = "mpi"))]
+            let comm: Option<&dyn Comm> = None;
+            run_scene(&args, comm)
+        }
         Command::Check { scene, allow_long_run, allow_large_memory } => {
             check_scene(&scene, LoadOptions { allow_long_run, allow_large_memory })
                 .map(|text| (text, ExitCode::SUCCESS))
@@ -175,10 +187,66 @@ fn main() -> ExitCode {
     }
 }
 
-fn run_scene(args: &RunArgs) -> Result<(String, ExitCode), String> {
+fn run_scene(args: &RunArgs, comm: Option<&dyn Comm>) -> Result<(String, ExitCode), String> {
     // First of all, so that a signal that comes while the scene loads also stops the run
     // cleanly (after its first frame) rather than killing it.
     let signals = StopSignals::install().map_err(|e| format!("cannot install the signal handlers: {e}"))?;
+    let root = comm.is_none_or(|c| c.rank() == 0);
+    let prepared = prepare_run(args, root, comm.is_some());
+    // On ranks, every rank goes on or none does: one that stopped alone would leave the others
+    // waiting for it. Rank 0 names the error; the others stop quietly.
+    if let Some(c) = comm
+        && c.any(prepared.is_err())
+    {
+        return match prepared {
+            Err(e) if root => Err(e),
+            _ => Ok((String::new(), ExitCode::FAILURE)),
+        };
+    }
+    let Prepared { scene, mut driver, mut progress, mut sim, output_interval } = prepared?;
+    let path = args.scene.as_path();
+    let Some(comm) = comm else {
+        let result = driver.run(&mut sim, vec![&mut progress], signals.flag());
+        return Ok(finish_run(driver, &sim, result, (&scene, path, output_interval), &signals));
+    };
+    let mut split = Split::new(comm, &sim)
+        .map_err(|e| format!("{}: cannot hold this rank's particles: {e}", path.display()))?;
+    if !root {
+        // Rank 0 holds what the sinks read; this rank only its own part.
+        sim.world.particles = sim.world.particles.select(&[]);
+    }
+    let result = driver.run_with(&mut sim, vec![&mut progress], signals.flag(), Some(&mut split));
+    let failure = split.failure().map(str::to_string);
+    let lines = split.report.lines();
+    if !root {
+        let ok = result.is_ok() && failure.is_none();
+        return Ok((String::new(), if ok { ExitCode::SUCCESS } else { ExitCode::FAILURE }));
+    }
+    sim.record.stage_times = split.local().record.stage_times;
+    let (mut text, code) = finish_run(driver, &sim, result, (&scene, path, output_interval), &signals);
+    for line in lines {
+        let _ = writeln!(text, "{line}");
+    }
+    if let Some(f) = failure {
+        eprintln!("error: {f}");
+        return Ok((text, ExitCode::FAILURE));
+    }
+    Ok((text, code))
+}
+
+/// A run ready to step: its scene, its driver with the files open, its progress bar and its
+/// simulation.
+struct Prepared {
+    scene: Scene,
+    driver: Driver,
+    progress: Progress,
+    sim: wetbounce::Simulation,
+    output_interval: f64,
+}
+
+/// Loads the scene and opens the outputs. `root`: this process writes the files (the only
+/// process, or rank 0 of a run on ranks, which takes no checkpoint yet: `on_ranks`).
+fn prepare_run(args: &RunArgs, root: bool, on_ranks: bool) -> Result<Prepared, String> {
     let path = args.scene.as_path();
     set_threads(args.threads)?;
     let formats = args.formats.clone().unwrap_or_else(Format::defaults);
@@ -189,6 +257,23 @@ fn run_scene(args: &RunArgs) -> Result<(String, ExitCode), String> {
         LoadOptions { allow_long_run: args.allow_long_run, allow_large_memory: args.allow_large_memory };
     let mut scene = Scene::load_with(path, options).map_err(|e| e.to_string())?;
     let output_interval = output_interval(&scene, args)?;
+    let policy = args.checkpoints.policy(&scene.checkpoint)?;
+    if on_ranks && (policy.every.is_some() || policy.wall.is_some()) {
+        return Err(format!(
+            "{}: checkpoints (--checkpoint-every, --checkpoint-wall or [checkpoint]) are not taken by a \
+             run on several ranks yet; run on one rank to checkpoint",
+            path.display()
+        ));
+    }
+    // The scene's particles move into the simulation: a run holds one copy of them.
+    let take = |scene: &mut Scene| scene.take_simulation().map_err(|e| e.to_string());
+    if !root {
+        let driver = Driver::new(None, &[], scene.duration, output_interval)
+            .map_err(|errors| errors.iter().map(ToString::to_string).collect::<Vec<_>>().join("\nerror: "))?;
+        let sim = take(&mut scene)?;
+        let progress = Progress::new(scene.duration, true);
+        return Ok(Prepared { scene, driver, progress, sim, output_interval });
+    }
     let stem = path.file_stem().map_or("scene".into(), |s| s.to_string_lossy().into_owned());
     let out = args.out.clone().unwrap_or_else(|| Path::new("out").join(&stem));
     std::fs::create_dir_all(&out)
@@ -207,7 +292,6 @@ fn run_scene(args: &RunArgs) -> Result<(String, ExitCode), String> {
         // Spin columns only in a scene with rotation: the others keep their files byte for byte.
         rotation: scene.setup.physics.rotation,
     };
-    let policy = args.checkpoints.policy(&scene.checkpoint)?;
     let saved_scene = SavedScene {
         path: std::path::absolute(path).unwrap_or_else(|_| path.to_path_buf()),
         given: path.to_path_buf(),
@@ -227,13 +311,10 @@ fn run_scene(args: &RunArgs) -> Result<(String, ExitCode), String> {
             eprintln!("note: removed {}: a checkpoint of an earlier run", old.display());
         }
     }
-    let mut driver = driver.checkpointing(checkpoints);
-    let mut progress = Progress::new(scene.duration, args.quiet);
-
-    // The scene's particles move into the simulation: a run holds one copy of them.
-    let mut sim = scene.take_simulation().map_err(|e| e.to_string())?;
-    let result = driver.run(&mut sim, vec![&mut progress], signals.flag());
-    Ok(finish_run(driver, &sim, result, (&scene, path, output_interval), &signals))
+    let driver = if on_ranks { driver } else { driver.checkpointing(checkpoints) };
+    let progress = Progress::new(scene.duration, args.quiet);
+    let sim = take(&mut scene)?;
+    Ok(Prepared { scene, driver, progress, sim, output_interval })
 }
 
 /// Ends a run (fresh or resumed): `summary.json`, the report on standard output, the exit status.

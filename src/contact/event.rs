@@ -1,7 +1,7 @@
 //! Contact events: one per contact, for the sinks.
 
 /// What the bounce rule did at a contact (docs/physics.md §5).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, serde::Serialize, serde::Deserialize)]
 pub enum Outcome {
     /// Held at the wall for `t_c`, then released at `ε V∞`.
     Held,
@@ -23,7 +23,7 @@ impl Outcome {
 }
 
 /// What a particle touched.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
 pub enum Other {
     /// A wall, by index into the simulation's walls.
     Wall(u32),
@@ -32,7 +32,7 @@ pub enum Other {
 }
 
 /// One contact.
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct ContactEvent {
     /// Simulated time of the impact (s), located inside the step.
     pub time: f64,

@@ -86,6 +86,25 @@ impl<T: Copy> Column<T> {
         });
     }
 
+    /// The column of the particles `rows` (indices into this one, in the order given): what a
+    /// rank sends of its particles (`crate::ranks`).
+    pub fn select(&self, rows: &[usize]) -> Self {
+        let w = self.width;
+        let mut values = Vec::with_capacity(w * rows.len());
+        for &i in rows {
+            values.extend_from_slice(&self.values[i * w..(i + 1) * w]);
+        }
+        Column { values: Arc::new(values), width: w, fresh: self.fresh }
+    }
+
+    /// Appends `other`'s particles (a column of the same feature, or one that is off when this
+    /// one is off).
+    pub fn append(&mut self, other: &Self) {
+        if self.width > 0 {
+            Arc::make_mut(&mut self.values).extend_from_slice(&other.values);
+        }
+    }
+
     /// Exchanges the values with `other` (the step's end-of-step copy), the width kept.
     pub fn swap_values(&mut self, other: &mut Vec<T>) {
         std::mem::swap(Arc::make_mut(&mut self.values), other);

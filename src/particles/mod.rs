@@ -228,6 +228,52 @@ impl Particles {
         }
     }
 
+    /// The particles `rows` (indices, in the order given), every column with them: what a rank
+    /// sends of its particles, and how one process's order is rebuilt from the ranks' parts
+    /// (`crate::ranks`).
+    pub fn select(&self, rows: &[usize]) -> Particles {
+        fn column<T: Copy>(c: &[T], rows: &[usize]) -> Vec<T> {
+            rows.iter().map(|&i| c[i]).collect()
+        }
+        Particles {
+            id: column(&self.id, rows),
+            kind: column(&self.kind, rows),
+            diameter: column(&self.diameter, rows),
+            pos: column(&self.pos, rows),
+            vel: column(&self.vel, rows),
+            omega: self.omega.select(rows),
+            state: column(&self.state, rows),
+            wall: column(&self.wall, rows),
+            release_time: column(&self.release_time, rows),
+            release_vel: column(&self.release_vel, rows),
+            born: column(&self.born, rows),
+            memory: self.memory.select(rows),
+            tet: self.tet.select(rows),
+            columns: self.columns.iter().map(|(n, c)| (n.clone(), c.select(rows))).collect(),
+        }
+    }
+
+    /// Appends `other`'s particles after these: a store of the same scene (the same features'
+    /// columns, in the same order).
+    pub fn append(&mut self, other: &Particles) {
+        self.id.extend_from_slice(&other.id);
+        self.kind.extend_from_slice(&other.kind);
+        self.diameter.extend_from_slice(&other.diameter);
+        self.pos.extend_from_slice(&other.pos);
+        self.vel.extend_from_slice(&other.vel);
+        self.omega.append(&other.omega);
+        self.state.extend_from_slice(&other.state);
+        self.wall.extend_from_slice(&other.wall);
+        self.release_time.extend_from_slice(&other.release_time);
+        self.release_vel.extend_from_slice(&other.release_vel);
+        self.born.extend_from_slice(&other.born);
+        self.memory.append(&other.memory);
+        self.tet.append(&other.tet);
+        for ((_, c), (_, o)) in self.columns.iter_mut().zip(&other.columns) {
+            c.append(o);
+        }
+    }
+
     /// A feature's own column `name`, `width` values per particle, a new particle's `fresh`:
     /// made for the particles there are (all `fresh`) unless it exists. Returns its slot, the
     /// index of [`Particles::columns`] and [`Next::columns`] it has.

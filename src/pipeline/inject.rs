@@ -203,6 +203,11 @@ impl Injector {
         InjectorState { due: 0, injected: 0, skipped: 0, rng: ChaCha8Rng::seed_from_u64(self.seed) }
     }
 
+    /// The box that holds every centre the injector may draw (m).
+    pub fn region_bounds(&self) -> (DVec3, DVec3) {
+        self.region.bounds()
+    }
+
     /// Particles due by time `t`: the k-th (k = 0, 1, …) is due at `start + k/rate`, if that is
     /// before `stop`; it counts once `t` is past it.
     pub fn due_by(&self, t: f64) -> u64 {

@@ -44,6 +44,7 @@ mod particle_pass;
 
 pub use commit::LostParticle;
 
+use crate::agree::{Agree, Alone};
 use crate::contact::{
     self, BounceRule, ContactEvent, ImpactLocation, LastingContact, Neighbours, Other, WallContact,
 };
@@ -153,6 +154,10 @@ pub struct World {
 pub struct Record {
     /// Contact events of the steps since the sinks last drained them.
     pub events: Vec<ContactEvent>,
+    /// For each of `events`, the id of the lowest particle of the island it came from: the
+    /// order in which a run split over ranks merges its ranks' events into one process's
+    /// (islands in the order of their lowest particle, `crate::ranks`).
+    pub event_islands: Vec<u32>,
     /// Particles taken out because their state became non-finite.
     pub lost: Vec<LostParticle>,
     /// What each outlet removed, in removal order, like [`Setup::outlets`].
@@ -270,7 +275,7 @@ impl Simulation {
     /// The steps run inside rayon's pool, so the serial stages between the parallel ones run on
     /// a worker rather than on a further thread that competes with the pool for the cores.
     pub fn advance_to(&mut self, t_end: f64) {
-        rayon::scope(|_| self.advance_to_in_pool(t_end));
+        rayon::scope(|_| self.advance_agreeing(t_end, &Alone));
     }
 
     /// Takes `n` steps of `h` (s), inside rayon's pool like [`Simulation::advance_to`]: what a
@@ -284,7 +289,9 @@ impl Simulation {
         });
     }
 
-    fn advance_to_in_pool(&mut self, t_end: f64) {
+    /// [`Simulation::advance_to`] on the calling thread, each step asking `agree` what spans
+    /// the ranks of a run split over MPI (`crate::ranks`; one process passes [`Alone`]).
+    pub fn advance_agreeing(&mut self, t_end: f64, agree: &dyn Agree) {
         let dt = self.setup.dt;
         // A sliver left by round-off (the sum of n steps misses t_end by ~n·ε·t) is no step. It
         // is judged against the time's own round-off, not against Δt: a span far shorter than
@@ -297,7 +304,7 @@ impl Simulation {
                 break;
             }
             let h = if remaining < 1.000_001 * dt { remaining } else { dt };
-            self.step(h);
+            self.step_agreeing(h, agree);
             if h == remaining {
                 self.world.time = t_end;
             }
@@ -306,13 +313,18 @@ impl Simulation {
 
     /// Advances every particle by `h` (s): the stages listed in the module documentation.
     pub fn step(&mut self, h: f64) {
+        self.step_agreeing(h, &Alone);
+    }
+
+    /// [`Simulation::step`], asking `agree` what spans the ranks of a run split over MPI.
+    pub fn step_agreeing(&mut self, h: f64, agree: &dyn Agree) {
         let Simulation { world, setup, record, scratch } = self;
         let setup = &*setup;
         let (integrator, drag, flow) = (setup.integrator, setup.physics.drag, &setup.fluid.flow);
         let mid_step = world.time + 0.5 * h;
         let accelerating = setup.physics.fluid_acceleration;
         let flow = StepFlow { flow, time: mid_step, accelerating };
-        dispatch(integrator, drag, flow, StepWith { world, setup, record, scratch, h });
+        dispatch(integrator, drag, flow, StepWith { world, setup, record, scratch, h, agree });
     }
 }
 
@@ -323,6 +335,7 @@ struct StepWith<'a> {
     record: &'a mut Record,
     scratch: &'a mut Scratch,
     h: f64,
+    agree: &'a dyn Agree,
 }
 
 impl WithMotion for StepWith<'_> {
@@ -330,11 +343,13 @@ impl WithMotion for StepWith<'_> {
 
     /// The stages of the module documentation, in order.
     fn run<M: Motion>(self, motion: &M) {
-        let StepWith { world, setup, record, scratch, h } = self;
+        let StepWith { world, setup, record, scratch, h, agree } = self;
         let span = (world.time, world.time + h);
         let mut laps = Laps(Instant::now());
         // The events of this step are those from here on (stage 4 records the first).
         let first_event = record.events.len();
+        // A caller that drained `events` (the sinks) left their islands: dropped with them.
+        record.event_islands.truncate(first_event);
         // 1.–5. The flight kernel reads two columns for the whole step while stage 1 rewrites
         // where paths start in the store: the history memory and, in a field on an
         // unstructured grid, the tetrahedra at the start of the step (empty without them). It
@@ -342,7 +357,8 @@ impl WithMotion for StepWith<'_> {
         // and commit write them without a copy.
         let suspect = {
             let lent = (world.particles.memory.share(), world.particles.tet.share());
-            move_and_collide(motion, (world, setup, record, scratch), (&lent.0, &lent.1), span, &mut laps)
+            let parts = (&mut *world, setup, &mut *record, &mut *scratch);
+            move_and_collide(motion, parts, (&lent.0, &lent.1), (span, agree), &mut laps)
         };
         // 5½. The stateful features' end of step (a field's cell hints: the tetrahedron that
         // holds each particle's end of the step), then their part of each contact.
@@ -379,7 +395,7 @@ fn move_and_collide<M: Motion>(
     motion: &M,
     (world, setup, record, scratch): (&mut World, &Setup, &mut Record, &mut Scratch),
     (start_memory, tets): (&[f64], &[u32]),
-    (t0, t1): (f64, f64),
+    ((t0, t1), agree): ((f64, f64), &dyn Agree),
     laps: &mut Laps,
 ) -> bool {
     let h = t1 - t0;
@@ -403,6 +419,7 @@ fn move_and_collide<M: Motion>(
     if flight.rotation() {
         particle_pass::spin(&flight, p, h, &mut scratch.next);
     }
+    agree.flown(&p.id, &p.pos, &scratch.next.pos);
     laps.lap(&mut times.particle_pass);
     // 3. Broad phase (pairs).
     scratch.pair_candidates.clear();
@@ -422,13 +439,14 @@ fn move_and_collide<M: Motion>(
     laps.lap(&mut times.broad_phase);
     // 4. Contacts in the step.
     let candidates = (&scratch.wall_candidates[..], &scratch.pair_candidates[..]);
-    let (next, events, lasting) = (&mut scratch.next, &mut record.events, &mut world.lasting);
+    let (next, lasting) = (&mut scratch.next, &mut world.lasting);
+    let events = (&mut record.events, &mut record.event_islands);
     let mut suspect = pass.suspect;
     suspect |= contact::resolve_in_step(&ctx, p, (t0, t1), candidates, next, events, lasting);
     laps.lap(&mut times.in_step);
     // 5. Lasting contacts.
     let wall_contacts = &mut world.wall_contacts;
-    suspect |= contact::keep_lasting(&ctx, p, next, lasting, neighbour_pairs, wall_contacts, h);
+    suspect |= contact::keep_lasting(&ctx, agree, p, next, lasting, neighbour_pairs, wall_contacts, h);
     laps.lap(&mut times.lasting);
     suspect
 }

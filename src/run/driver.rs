@@ -119,6 +119,18 @@ impl Driver {
         extra: Vec<&'a mut dyn Sink>,
         stop: &AtomicBool,
     ) -> Result<RunReport, RunFailed> {
+        self.run_with(sim, extra, stop, None)
+    }
+
+    /// [`Self::run`], stepped by `steps` (a run split over ranks, `crate::ranks`) rather than
+    /// by this process alone.
+    pub fn run_with<'a>(
+        &'a mut self,
+        sim: &mut Simulation,
+        extra: Vec<&'a mut dyn Sink>,
+        stop: &AtomicBool,
+        steps: Option<&'a mut dyn super::Steps>,
+    ) -> Result<RunReport, RunFailed> {
         let mut all: Vec<&mut dyn Sink> =
             self.outputs.sinks.iter_mut().map(|s| s.as_mut() as &mut dyn Sink).collect();
         all.push(&mut self.stats);
@@ -128,6 +140,7 @@ impl Driver {
             output_interval: self.output_interval,
             from: self.from.take(),
             checkpoints: self.checkpoints.as_mut(),
+            steps,
         };
         run_plan(sim, plan, &mut all, stop)
     }

@@ -65,8 +65,33 @@ pub fn run(
     sinks: &mut [&mut dyn Sink],
     stop: &AtomicBool,
 ) -> Result<RunReport, RunFailed> {
-    let plan = Plan { duration, output_interval, from: None, checkpoints: None };
+    let plan = Plan { duration, output_interval, from: None, checkpoints: None, steps: None };
     run_plan(sim, plan, sinks, stop)
+}
+
+/// How a run's loop moves its simulation on: one process steps it ([`OneProcess`]); a run split
+/// over ranks steps each rank's part and gathers what the sinks read into the simulation the
+/// loop holds (`crate::ranks`).
+pub trait Steps {
+    /// Steps `sim` to `target` (s), at most one step ahead.
+    fn advance(&mut self, sim: &mut Simulation, target: f64);
+    /// Before the sinks get a frame: `sim` holds every particle.
+    fn before_frame(&mut self, _sim: &mut Simulation) {}
+    /// Whether the run stops, given whether this process was asked to (a signal, a particle
+    /// outside the flow field): ranks stop together.
+    fn stopping(&mut self, asked: bool) -> bool {
+        asked
+    }
+}
+
+/// One process steps the whole simulation.
+#[derive(Debug, Default, Clone, Copy)]
+pub struct OneProcess;
+
+impl Steps for OneProcess {
+    fn advance(&mut self, sim: &mut Simulation, target: f64) {
+        sim.advance_to(target);
+    }
 }
 
 /// What [`run_plan`] runs: to `duration` with a frame every `output_interval` (s), from the
@@ -80,6 +105,8 @@ pub struct Plan<'a> {
     pub from: Option<RunPosition>,
     /// The checkpoints to take; `None` for none.
     pub checkpoints: Option<&'a mut Checkpoints>,
+    /// How the simulation is stepped; `None`: by this process ([`OneProcess`]).
+    pub steps: Option<&'a mut dyn Steps>,
 }
 
 /// [`run`], from a checkpoint's position and taking checkpoints as `plan` says. A checkpoint is
@@ -93,7 +120,12 @@ pub fn run_plan(
     sinks: &mut [&mut dyn Sink],
     stop: &AtomicBool,
 ) -> Result<RunReport, RunFailed> {
-    let Plan { duration, output_interval, from, mut checkpoints } = plan;
+    let Plan { duration, output_interval, from, mut checkpoints, steps } = plan;
+    let mut one = OneProcess;
+    let steps: &mut dyn Steps = match steps {
+        Some(s) => s,
+        None => &mut one,
+    };
     let start = Instant::now();
     let mut at =
         from.unwrap_or(RunPosition { lost_reported: sim.record.lost.len() as u64, ..Default::default() });
@@ -105,6 +137,7 @@ pub fn run_plan(
         loop {
             if !on_the_way {
                 if !frame_written {
+                    steps.before_frame(sim);
                     for s in sinks.iter_mut() {
                         s.frame(sim)?;
                     }
@@ -123,7 +156,7 @@ pub fn run_plan(
                 }
                 // A signal that came before the first step (while the scene loaded) stops the
                 // run here, with the frame just written as its last.
-                if stop.load(Ordering::Relaxed) {
+                if steps.stopping(stop.load(Ordering::Relaxed)) {
                     return Ok(true);
                 }
                 at.k += 1;
@@ -136,7 +169,7 @@ pub fn run_plan(
                 // interval lands on `next` exactly (`advance_to` shortens or stretches it).
                 let (t, dt) = (sim.world.time, sim.setup.dt);
                 let target = if next - t <= 1.000_000_001 * dt { next } else { t + dt };
-                sim.advance_to(target);
+                steps.advance(sim, target);
                 for s in sinks.iter_mut() {
                     s.step(sim)?;
                 }
@@ -150,7 +183,8 @@ pub fn run_plan(
                 }
                 // A particle outside a flow field whose outside is an error ends the run like a
                 // stop signal, with a last frame; the caller reports `record.left_field`.
-                let stopping = stop.load(Ordering::Relaxed) || sim.record.left_field.is_some();
+                let stopping =
+                    steps.stopping(stop.load(Ordering::Relaxed) || sim.record.left_field.is_some());
                 if let Some(c) = checkpoints.as_deref_mut()
                     && (stopping || c.due(sim))
                 {
@@ -158,6 +192,7 @@ pub fn run_plan(
                     c.take(sim, at, sinks)?;
                 }
                 if stopping {
+                    steps.before_frame(sim);
                     for s in sinks.iter_mut() {
                         s.frame(sim)?;
                     }
@@ -209,6 +244,7 @@ fn flush_events(sim: &mut Simulation, sinks: &mut [&mut dyn Sink]) -> Result<(),
     }
     sim.record.events = events;
     sim.record.events.clear();
+    sim.record.event_islands.clear();
     Ok(())
 }
 

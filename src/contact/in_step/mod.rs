@@ -25,7 +25,8 @@ use rayon::prelude::*;
 
 /// Stage 4 for the whole step from `t0` to `t1`: islands from the broad phase's wall
 /// candidates and candidate pairs, resolved in parallel, written back in index order into
-/// `next` (positions, velocities, states, walls, and the holds begun), `events` and `lasting`.
+/// `next` (positions, velocities, states, walls, and the holds begun), `events` (with, for each,
+/// the id of the lowest particle of its island in `event_islands`) and `lasting`.
 /// Returns true when a particle's new state is not finite.
 pub(crate) fn resolve_in_step<M: Motion>(
     ctx: &Ctx<M>,
@@ -33,7 +34,7 @@ pub(crate) fn resolve_in_step<M: Motion>(
     (t0, t1): (f64, f64),
     (wall_candidates, pair_candidates): (&[u32], &[[u32; 2]]),
     next: &mut Next,
-    events: &mut Vec<ContactEvent>,
+    (events, event_islands): (&mut Vec<ContactEvent>, &mut Vec<u32>),
     lasting: &mut Vec<LastingContact>,
 ) -> bool {
     let islands = islands::islands(wall_candidates, pair_candidates);
@@ -46,7 +47,9 @@ pub(crate) fn resolve_in_step<M: Motion>(
         .collect();
     let mut suspect = false;
     let width = ctx.flight.memory_width();
-    for r in results {
+    for (island, r) in islands.iter().zip(results) {
+        // The events' place in a run split over ranks: by island, islands by their lowest id.
+        event_islands.extend(std::iter::repeat_n(p.id[island.members[0]], r.events.len()));
         for tr in r.tracks {
             let i = tr.i;
             // With the history effect, a path that a contact or a release restarted has a new

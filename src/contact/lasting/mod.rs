@@ -6,6 +6,7 @@
 mod velocities;
 
 use super::Ctx;
+use crate::agree::Agree;
 use crate::flight::Motion;
 use crate::particles::{Next, Particles, State};
 use crate::walls::{Surface, push_out};
@@ -129,8 +130,13 @@ fn new_overlaps(
 /// projected first (without touching velocities, so that correcting a drift adds no kinetic
 /// energy), then velocities (`solve_velocities`). `h` is the step (s). Returns true when a
 /// particle's new state is not finite.
+///
+/// Every decision that spans all contacts (whether a round or a sweep is needed) is asked of
+/// `agree`: on ranks of one run, all of them take the same rounds and sweeps as one process.
+#[allow(clippy::too_many_arguments)]
 pub(crate) fn keep_lasting<M: Motion>(
     ctx: &Ctx<M>,
+    agree: &dyn Agree,
     p: &Particles,
     next: &mut Next,
     contacts: &mut Vec<LastingContact>,
@@ -156,10 +162,10 @@ pub(crate) fn keep_lasting<M: Motion>(
         let found = new_overlaps(neighbour_pairs, x, &reach_of, &known);
         known.extend(found.iter().map(|c| [c.a, c.b]));
         contacts.extend(found);
-        if contacts.is_empty() {
+        if !agree.any(!contacts.is_empty()) {
             break;
         }
-        if contacts.len() == before && round > 0 {
+        if !agree.any(contacts.len() != before) && round > 0 {
             break;
         }
         // Bottom-up along gravity: a sweep then carries the support of the walls up through a
@@ -180,7 +186,7 @@ pub(crate) fn keep_lasting<M: Motion>(
             involved.sort_unstable();
             involved.dedup();
         }
-        project_positions(ctx, p, x, contacts, &involved, &w);
+        project_positions(ctx, agree, p, x, contacts, &involved, &w);
         // Walls are hard: whatever the sweeps left, no particle ends inside one.
         // (`may_touch` first: the closed-form broad phase answers for most, and it is false
         // only when the gap is positive, where `push_out` does nothing.)
@@ -200,7 +206,7 @@ pub(crate) fn keep_lasting<M: Motion>(
         involved.sort_unstable();
         involved.dedup();
     }
-    if involved.is_empty() {
+    if !agree.any(!involved.is_empty()) {
         wall_contacts.clear();
         return false;
     }
@@ -212,7 +218,7 @@ pub(crate) fn keep_lasting<M: Motion>(
     // millimetres per second, dozens of times a second in a 300-bead bed.
     let flown: Vec<DVec3> = if friction { involved.iter().map(|&i| v[i]).collect() } else { Vec::new() };
     let spins = friction.then_some((&mut next.omega[..], &next.wall[..], wall_contacts));
-    velocities::solve(ctx, p, (x, v, state), spins, contacts, (&involved, &w), h);
+    velocities::solve((ctx, agree), p, (x, v, state), spins, contacts, (&involved, &w), h);
     for (&i, &flown) in involved.iter().zip(&flown) {
         x[i] += (M::DISPLACEMENT_SHARE * h) * (v[i] - flown);
     }
@@ -229,7 +235,7 @@ pub(crate) fn keep_lasting<M: Motion>(
         let mut moved: Vec<usize> = Vec::new();
         for round in 0..ROUNDS + 1 {
             let overlapping = new_overlaps(neighbour_pairs, x, &reach_of, &known);
-            if round > 0 && overlapping.is_empty() {
+            if round > 0 && !agree.any(!overlapping.is_empty()) {
                 break;
             }
             if round == 0 {
@@ -241,7 +247,7 @@ pub(crate) fn keep_lasting<M: Motion>(
             moved.sort_unstable();
             moved.dedup();
             all.extend(overlapping);
-            project_positions(ctx, p, x, &all, &moved, &w);
+            project_positions(ctx, agree, p, x, &all, &moved, &w);
         }
         for &i in moved.iter().filter(|&&i| w(i) > 0.0) {
             let r = 0.5 * p.diameter[i];
@@ -259,6 +265,7 @@ pub(crate) fn keep_lasting<M: Motion>(
 /// contacts: a resting contact may not overlap, a hold keeps the pair touching.
 fn project_positions<M: Motion>(
     ctx: &Ctx<M>,
+    agree: &dyn Agree,
     p: &Particles,
     x: &mut [DVec3],
     contacts: &[LastingContact],
@@ -305,7 +312,7 @@ fn project_positions<M: Motion>(
                 x[b] -= n * push * wb / (wa + wb);
             }
         }
-        if worst < TOLERANCE {
+        if agree.max(worst) < TOLERANCE {
             break;
         }
     }

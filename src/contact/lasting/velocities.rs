@@ -203,7 +203,7 @@ type EndOfStep<'a> = (&'a [DVec3], &'a mut [DVec3], &'a [State]);
 /// every contact and wall row also has its friction rows ([`FrictionRows`]), updated right
 /// after its normal row, and warm-started like it.
 pub(super) fn solve<M: Motion>(
-    ctx: &Ctx<M>,
+    (ctx, agree): (&Ctx<M>, &dyn crate::agree::Agree),
     p: &Particles,
     (x, v, state): EndOfStep,
     spins: Option<(&mut [DVec3], &[u32], &mut Vec<WallContact>)>,
@@ -242,7 +242,7 @@ pub(super) fn solve<M: Motion>(
     let sweeps = if spin.is_some() { FRICTION_VELOCITY_SWEEPS } else { VELOCITY_SWEEPS };
     let tolerance = tolerance * ctx.fluid.gravity.length() * h;
     for _ in 0..sweeps {
-        if sweep(&mut bodies, spin.as_mut(), contacts, &mut walls, &mut rows) <= tolerance {
+        if agree.max(sweep(&mut bodies, spin.as_mut(), contacts, &mut walls, &mut rows)) <= tolerance {
             break;
         }
     }

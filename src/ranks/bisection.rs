@@ -1,0 +1,153 @@
+//! Recursive coordinate bisection: space cut into one domain per rank, each holding about the
+//! same weight of particles (docs/distributed.md, "Domains").
+//!
+//! A set of weighted points is cut across the longest side of its bounding box where the
+//! weight below the cut is the share of the ranks below it (`⌊k/2⌋` of `k`), and each side is
+//! cut again until one rank is left. The cuts depend only on the points and their order, so
+//! every rank that computes them from the same list finds the same domains.
+
+use glam::DVec3;
+
+/// The domains: a tree of cuts with one rank at each leaf.
+#[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct Domains {
+    nodes: Vec<Node>,
+}
+
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
+enum Node {
+    /// Everything here belongs to this rank.
+    Rank(u32),
+    /// Points with `x[axis] < at` go to node `below`, the others to `above`.
+    Cut { axis: u8, at: f64, below: u32, above: u32 },
+}
+
+impl Domains {
+    /// Everything on rank 0.
+    pub fn one() -> Self {
+        Domains { nodes: vec![Node::Rank(0)] }
+    }
+
+    /// The domains of `size` ranks for `points` (position and weight), each rank's share of
+    /// the weight as equal as the points allow.
+    pub fn bisect(points: &[(DVec3, f64)], size: usize) -> Self {
+        let mut nodes = Vec::new();
+        let mut order: Vec<usize> = (0..points.len()).collect();
+        cut(points, &mut order, (0, size.max(1)), &mut nodes);
+        Domains { nodes }
+    }
+
+    /// The rank whose domain holds `x`.
+    pub fn owner(&self, x: DVec3) -> usize {
+        let mut node = 0;
+        loop {
+            match self.nodes[node] {
+                Node::Rank(r) => return r as usize,
+                Node::Cut { axis, at, below, above } => {
+                    node = if x[axis as usize] < at { below } else { above } as usize;
+                }
+            }
+        }
+    }
+}
+
+/// Cuts `order` (indices into `points`) among ranks `first..first + count`, pushing the nodes;
+/// returns the index of the subtree's root.
+fn cut(
+    points: &[(DVec3, f64)],
+    order: &mut [usize],
+    (first, count): (usize, usize),
+    nodes: &mut Vec<Node>,
+) -> u32 {
+    let me = nodes.len() as u32;
+    if count == 1 {
+        nodes.push(Node::Rank(first as u32));
+        return me;
+    }
+    nodes.push(Node::Rank(first as u32));
+    let (lo, hi) = order.iter().fold((DVec3::INFINITY, DVec3::NEG_INFINITY), |(lo, hi), &i| {
+        (lo.min(points[i].0), hi.max(points[i].0))
+    });
+    let extent = if order.is_empty() { DVec3::ZERO } else { hi - lo };
+    let axis = if extent.x >= extent.y && extent.x >= extent.z {
+        0
+    } else if extent.y >= extent.z {
+        1
+    } else {
+        2
+    };
+    order.sort_by(|&a, &b| points[a].0[axis].total_cmp(&points[b].0[axis]).then(a.cmp(&b)));
+    let below_ranks = count / 2;
+    let total: f64 = order.iter().map(|&i| points[i].1).sum();
+    let share = total * below_ranks as f64 / count as f64;
+    // The first point whose weight before it reaches the share starts the upper side.
+    let mut acc = 0.0;
+    let mut split = order.len();
+    for (k, &i) in order.iter().enumerate() {
+        if acc >= share && k > 0 {
+            split = k;
+            break;
+        }
+        acc += points[i].1;
+    }
+    // A cut between two points, so that neither is on it; points at the same coordinate all
+    // go above (the cut cannot part them).
+    let at = match (split.checked_sub(1).map(|k| order[k]), order.get(split)) {
+        (Some(a), Some(&b)) => {
+            let (xa, xb) = (points[a].0[axis], points[b].0[axis]);
+            if xa < xb { 0.5 * (xa + xb) } else { xb }
+        }
+        (Some(a), None) => points[a].0[axis] + 1.0,
+        (None, Some(&b)) => points[b].0[axis],
+        (None, None) => 0.0,
+    };
+    let (lower, upper) = order.split_at_mut(split);
+    let below = cut(points, lower, (first, below_ranks), nodes);
+    let above = cut(points, upper, (first + below_ranks, count - below_ranks), nodes);
+    nodes[me as usize] = Node::Cut { axis: axis as u8, at, below, above };
+    me
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn grid(n: usize) -> Vec<(DVec3, f64)> {
+        (0..n)
+            .map(|i| (DVec3::new((i % 10) as f64, ((i / 10) % 10) as f64, (i / 100) as f64 * 3.0), 1.0))
+            .collect()
+    }
+
+    #[test]
+    fn bisection_gives_every_rank_an_equal_share_of_equal_points() {
+        let points = grid(1000);
+        for size in [1, 2, 3, 4, 7, 16] {
+            let d = Domains::bisect(&points, size);
+            let mut counts = vec![0usize; size];
+            for (x, _) in &points {
+                counts[d.owner(*x)] += 1;
+            }
+            let (lo, hi) = (*counts.iter().min().unwrap(), *counts.iter().max().unwrap());
+            // Ten points share each coordinate along an axis: a cut moves them ten at a time.
+            assert!(hi - lo <= 20, "{size} ranks: {counts:?}");
+        }
+    }
+
+    #[test]
+    fn a_heavy_point_takes_a_domain_of_its_own() {
+        let mut points = grid(100);
+        points[0].1 = 100.0;
+        let d = Domains::bisect(&points, 2);
+        let owner0 = d.owner(points[0].0);
+        let with0 = points.iter().filter(|(x, _)| d.owner(*x) == owner0).count();
+        assert!(with0 < 10, "the heavy point shares its domain with {with0} others");
+    }
+
+    #[test]
+    fn fewer_points_than_ranks_leave_ranks_empty_without_failing() {
+        let points = vec![(DVec3::ZERO, 1.0), (DVec3::X, 1.0)];
+        let d = Domains::bisect(&points, 5);
+        assert_ne!(d.owner(DVec3::ZERO), d.owner(DVec3::X));
+        assert!(Domains::bisect(&[], 3).owner(DVec3::ONE) < 3);
+    }
+}

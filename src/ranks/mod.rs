@@ -1,0 +1,403 @@
+//! One run on several ranks (MPI), giving the files one process gives (docs/distributed.md).
+//!
+//! **Design.** Each rank owns whole *clusters* ([`clusters`]): sets of particles close enough
+//! to touch before the next re-clustering, linked also by their lasting contacts. No contact
+//! then crosses a rank, and each rank steps its particles with the single-process step,
+//! unchanged: what does not cross a rank is computed exactly as in one process. Its particles
+//! are kept in id order, the order of one process, so every order-dependent loop of the step
+//! (islands, Gauss–Seidel sweeps, events) visits them in the same relative order. What spans
+//! the ranks is agreed:
+//!
+//! - inside a step, the few decisions over *all* contacts (whether another projection round or
+//!   sweep is needed) through [`crate::agree::Agree`], by a reduction;
+//! - after each step ([`Split`], a [`Steps`] of the run loop): the step's events, lost particles
+//!   and outlet removals go to rank 0, merged into one process's order (events by island, an
+//!   island by its lowest id; the others by id); injectors draw on every rank from the same
+//!   generator, against the particles near them gathered from every rank, and rank 0 takes
+//!   the new particles; a particle outside an `outside = "error"` field stops every rank;
+//! - at a frame, rank 0 gathers every particle, in id order, and writes the same files as one
+//!   process;
+//! - clusters are found again ([`clusters::recluster`]) when particles were injected or when a
+//!   particle may come within half the cluster skin of its reference; the domains
+//!   ([`bisection`]) are cut again when the ranks' counts drift apart. During the step the
+//!   ranks check that no particle went farther than the skin allows; if one did (a jump far
+//!   larger than the last step's moves), the run stops with an error rather than miss a contact.
+//!
+//! A run started without `mpirun`, or with one rank, does not come here: it is the plain run.
+
+pub mod bisection;
+pub mod clusters;
+pub mod comm;
+#[cfg(feature = "mpi")]
+pub mod mpi;
+
+use crate::agree::Agree;
+use crate::contact::ContactEvent;
+use crate::fluid::field::{Outside, OutsideField};
+use crate::particles::NO_TET;
+use crate::pipeline::inject::{self, Injector, InjectorState};
+use crate::pipeline::outlets::Removal;
+use crate::pipeline::{LostParticle, Simulation};
+use crate::run::Steps;
+use bisection::Domains;
+use clusters::{Balance, Clustering, recluster};
+use comm::{Comm, all_gather, exchange};
+use glam::DVec3;
+use std::cell::Cell;
+
+/// Imbalance (largest rank's count over the mean, less one) past which the domains are cut
+/// again at a re-clustering.
+pub const REBALANCE_THRESHOLD: f64 = 0.1;
+
+/// A run's part on this rank, and what the ranks share: a [`Steps`] for the run loop
+/// ([`crate::run::Driver::run_with`]), which holds on rank 0 the simulation the sinks read.
+pub struct Split<'c> {
+    comm: &'c dyn Comm,
+    /// This rank's particles, stepped by the single-process step (without the injectors).
+    local: Simulation,
+    /// The scene's injectors and their state: the same on every rank.
+    injectors: Vec<Injector>,
+    injection: Vec<InjectorState>,
+    next_id: u32,
+    domains: Domains,
+    balance: Balance,
+    /// The cluster skin `S` (m) of the last clustering, and each particle's id and position
+    /// then (the ids only to follow removals).
+    skin: f64,
+    reference: Vec<DVec3>,
+    reference_ids: Vec<u32>,
+    /// The largest free-flight move of the last step, over the ranks (m).
+    last_move: f64,
+    /// How many events, lost particles and removals of `local` are handed on already.
+    handed: (usize, Vec<usize>),
+    /// Why the run stopped on its own, if it did.
+    failure: Option<String>,
+    /// What the re-clusterings did.
+    pub report: SplitReport,
+}
+
+/// How the run was split, for the end-of-run table.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct SplitReport {
+    /// Ranks.
+    pub ranks: usize,
+    /// Re-clusterings, and those that cut the domains again.
+    pub reclusterings: u64,
+    /// Re-clusterings that cut the domains again.
+    pub rebalances: u64,
+    /// Particles that changed rank, over the run.
+    pub moved: u64,
+    /// The last clustering.
+    pub last: Clustering,
+    /// The largest imbalance after a re-clustering (largest count over the mean, less one).
+    pub worst_imbalance: f64,
+}
+
+impl SplitReport {
+    /// Lines for the end-of-run table.
+    pub fn lines(&self) -> Vec<String> {
+        let c = &self.last;
+        vec![
+            format!(
+                "ranks: {} (particles per rank at the last re-clustering: {:?}; worst imbalance {:.0} %)",
+                self.ranks,
+                c.counts,
+                100.0 * self.worst_imbalance
+            ),
+            format!(
+                "clusters: {} at the last re-clustering, the largest {} particles; {} re-clusterings, {} rebalances, {} particles moved between ranks",
+                c.clusters, c.largest, self.reclusterings, self.rebalances, self.moved
+            ),
+        ]
+    }
+}
+
+/// What a rank hands rank 0 after a step.
+#[derive(Debug, Clone, Default, serde::Serialize, serde::Deserialize)]
+struct News {
+    /// The step's events, each with its island's lowest id.
+    events: Vec<(u32, ContactEvent)>,
+    lost: Vec<LostParticle>,
+    removed: Vec<Vec<Removal>>,
+    left_field: Option<OutsideField>,
+}
+
+impl<'c> Split<'c> {
+    /// Splits `sim` (the whole simulation, built from the scene on every rank alike) over the
+    /// ranks of `comm`; `sim` stays the simulation the run loop holds (rank 0's sinks read it).
+    pub fn new(comm: &'c dyn Comm, sim: &Simulation) -> Result<Self, std::collections::TryReserveError> {
+        let mut setup = sim.setup.clone();
+        let injectors = std::mem::take(&mut setup.injectors);
+        let mut world = sim.world.clone();
+        let injection = std::mem::take(&mut world.injection);
+        if comm.rank() != 0 {
+            // Rank 0 starts with every particle; the first clustering shares them out.
+            world.particles = world.particles.select(&[]);
+            world.lasting.clear();
+            world.wall_contacts.clear();
+        }
+        world.neighbours.invalidate();
+        let removed = vec![Vec::new(); setup.outlets.len()];
+        let local = Simulation::restore(setup, world, (Vec::new(), removed.clone(), None))?;
+        let next_id = sim.world.next_id;
+        let mut split = Split {
+            comm,
+            local,
+            injectors,
+            injection,
+            next_id,
+            domains: Domains::one(),
+            balance: Balance::default(),
+            skin: 0.0,
+            reference: Vec::new(),
+            reference_ids: Vec::new(),
+            last_move: 0.0,
+            handed: (0, vec![0; removed.len()]),
+            failure: None,
+            report: SplitReport { ranks: comm.size(), ..SplitReport::default() },
+        };
+        split.recluster(true);
+        Ok(split)
+    }
+
+    /// Why the run stopped before its end on its own (a particle jumped farther than the
+    /// clusters allow), if it did.
+    pub fn failure(&self) -> Option<&str> {
+        self.failure.as_deref()
+    }
+
+    /// This rank's part of the run.
+    pub fn local(&self) -> &Simulation {
+        &self.local
+    }
+
+    /// Finds the clusters again with a skin fitted to the last step's moves.
+    fn recluster(&mut self, rebalance: bool) {
+        let setup = &self.local.setup;
+        // The largest particle there is or may come (an injector's).
+        let injected = self.injectors.iter().map(|i| i.diameter.max_diameter()).fold(0.0, f64::max);
+        let d_max =
+            self.comm.max(self.local.world.particles.diameter.iter().copied().fold(injected, f64::max));
+        // Twice the neighbour list's skin, and room for moves many times the last step's.
+        self.skin = (2.0 * setup.skin_fraction * d_max).max(16.0 * self.last_move);
+        let bounds = (&mut self.domains, &mut self.balance);
+        let done =
+            recluster(self.comm, &mut self.local.world, bounds, (self.skin, REBALANCE_THRESHOLD, rebalance));
+        self.reference = self.local.world.particles.pos.clone();
+        self.reference_ids = self.local.world.particles.id.clone();
+        let total: usize = done.counts.iter().sum();
+        let mean = total as f64 / done.counts.len() as f64;
+        let worst = done.counts.iter().copied().max().unwrap_or(0) as f64;
+        let r = &mut self.report;
+        r.reclusterings += 1;
+        r.rebalances += done.rebalanced as u64;
+        r.moved += done.moved as u64;
+        if mean > 0.0 {
+            r.worst_imbalance = r.worst_imbalance.max(worst / mean - 1.0);
+        }
+        r.last = done;
+    }
+
+    /// After a step: the news to rank 0, merged into `view`.
+    fn hand_on(&mut self, view: &mut Simulation) {
+        let record = &mut self.local.record;
+        let news = News {
+            events: record.event_islands.iter().copied().zip(record.events.iter().copied()).collect(),
+            lost: record.lost[self.handed.0..].to_vec(),
+            removed: record.removed.iter().zip(&self.handed.1).map(|(r, &k)| r[k..].to_vec()).collect(),
+            left_field: record.left_field.take(),
+        };
+        record.events.clear();
+        record.event_islands.clear();
+        self.handed = (record.lost.len(), record.removed.iter().map(Vec::len).collect());
+        let mut outgoing = vec![News::default(); self.comm.size()];
+        outgoing[0] = news;
+        let came: Vec<News> = exchange(self.comm, &outgoing);
+        if self.comm.rank() != 0 {
+            return;
+        }
+        let mut events: Vec<(u32, ContactEvent)> =
+            came.iter().flat_map(|n| n.events.iter().copied()).collect();
+        // Stable: each rank's events are in its islands' order already.
+        events.sort_by_key(|e| e.0);
+        view.record.events.extend(events.into_iter().map(|e| e.1));
+        let mut lost: Vec<LostParticle> = came.iter().flat_map(|n| n.lost.iter().copied()).collect();
+        lost.sort_by_key(|l| l.id);
+        view.record.lost.extend(lost);
+        for (k, removed) in view.record.removed.iter_mut().enumerate() {
+            let mut r: Vec<Removal> = came.iter().flat_map(|n| n.removed[k].iter().copied()).collect();
+            r.sort_by_key(|r| r.id);
+            removed.extend(r);
+        }
+        if view.record.left_field.is_none() {
+            view.record.left_field = came.iter().filter_map(|n| n.left_field).min_by_key(|l| l.id);
+        }
+    }
+
+    /// Stage 7's inflow for the whole run: every rank draws, against the particles near each
+    /// injector gathered from every rank; rank 0 keeps what was added. Returns true when
+    /// particles were added.
+    fn inject(&mut self, view: &mut Simulation, t1: f64) -> bool {
+        let due = self.injectors.iter().zip(&self.injection).any(|(inj, s)| inj.due_by(t1) > s.due);
+        if !due {
+            return false;
+        }
+        let p = &self.local.world.particles;
+        let d_max = self.comm.max(p.diameter.iter().copied().fold(0.0, f64::max));
+        let near: Vec<usize> = (0..p.len())
+            .filter(|&i| {
+                self.injectors.iter().any(|inj| {
+                    let (lo, hi) = inj.region_bounds();
+                    let margin = DVec3::splat(0.5 * inj.diameter.max_diameter() + d_max);
+                    p.pos[i].cmpge(lo - margin).all() && p.pos[i].cmple(hi + margin).all()
+                })
+            })
+            .collect();
+        let parts: Vec<crate::particles::Particles> = all_gather(self.comm, &p.select(&near));
+        let mut around = p.select(&[]);
+        for part in &parts {
+            around.append(part);
+        }
+        let mut order: Vec<usize> = (0..around.len()).collect();
+        order.sort_unstable_by_key(|&i| around.id[i]);
+        let mut around = around.select(&order);
+        let before = around.len();
+        let walls = &self.local.setup.walls;
+        let added =
+            inject::run(&self.injectors, &mut self.injection, walls, &mut around, &mut self.next_id, t1);
+        if added && self.comm.rank() == 0 {
+            let new: Vec<usize> = (before..around.len()).collect();
+            let fresh = around.select(&new);
+            self.check_new_inside_field(view, &fresh, t1);
+            self.local.world.particles.append(&fresh);
+            self.local.world.neighbours.invalidate();
+        }
+        added
+    }
+
+    /// One process checks the particles just injected against an `outside = "error"` field
+    /// with the others: rank 0 does it for them.
+    fn check_new_inside_field(&self, view: &mut Simulation, fresh: &crate::particles::Particles, t1: f64) {
+        let Some(field) = self.local.setup.fluid.flow.field() else { return };
+        if field.outside != Outside::Error || view.record.left_field.is_some() {
+            return;
+        }
+        let unknown = |i: usize| fresh.tet.values().get(i).is_none_or(|&t| t == NO_TET);
+        view.record.left_field = (0..fresh.len())
+            .find(|&i| unknown(i) && !field.contains(fresh.pos[i]))
+            .map(|i| OutsideField { id: fresh.id[i], position: fresh.pos[i], time: t1 });
+    }
+}
+
+/// What a step asks the ranks, and what it tells them of its moves.
+struct Agreeing<'a> {
+    comm: &'a dyn Comm,
+    reference: &'a [DVec3],
+    half_skin: f64,
+    /// The step's largest free-flight move, and how far the farthest particle may have gone
+    /// from its reference (m), over the ranks.
+    flown: Cell<(f64, f64)>,
+}
+
+impl Agree for Agreeing<'_> {
+    fn max(&self, x: f64) -> f64 {
+        self.comm.max(x)
+    }
+
+    fn any(&self, b: bool) -> bool {
+        self.comm.any(b)
+    }
+
+    fn flown(&self, _ids: &[u32], start: &[DVec3], end: &[DVec3]) {
+        let (mut moved, mut reach) = (0.0f64, 0.0f64);
+        for ((s, e), r) in start.iter().zip(end).zip(self.reference) {
+            let m = (*e - *s).length();
+            moved = moved.max(m);
+            // Its path stays within its move of its start (twice, for a curved one).
+            reach = reach.max((*s - *r).length() + 2.0 * m);
+        }
+        let both = all_gather(self.comm, &(moved, reach));
+        self.flown.set(both.iter().fold((0.0, 0.0), |a, b| (a.0.max(b.0), a.1.max(b.1))));
+        let _ = self.half_skin;
+    }
+}
+
+impl Steps for Split<'_> {
+    fn advance(&mut self, view: &mut Simulation, target: f64) {
+        let steps = self.local.world.steps;
+        let agree = Agreeing {
+            comm: self.comm,
+            reference: &self.reference,
+            half_skin: 0.5 * self.skin,
+            flown: Cell::new((0.0, 0.0)),
+        };
+        self.local.advance_agreeing(target, &agree);
+        let (moved, reach) = agree.flown.get();
+        let t1 = self.local.world.time;
+        view.world.time = t1;
+        view.world.steps = self.local.world.steps;
+        if self.local.world.steps == steps {
+            return;
+        }
+        if reach > 0.5 * self.skin && self.failure.is_none() {
+            self.failure = Some(format!(
+                "at t = {t1:.6e} s a particle may have moved {reach:.3e} m from where it was when the \
+                 ranks last shared out the particles, more than half the cluster skin ({:.3e} m): a \
+                 contact across ranks could have been missed, so the run stops here. A smaller time \
+                 step, or fewer ranks, avoids it",
+                0.5 * self.skin
+            ));
+        }
+        self.last_move = moved;
+        self.hand_on(view);
+        let injected = self.inject(view, t1);
+        // The particles' references follow removals (lost, outlets): ids in order on both sides.
+        let p = &self.local.world.particles;
+        if p.len() != self.reference.len() && !injected {
+            (self.reference, self.reference_ids) = realign(&p.id, (&self.reference_ids, &self.reference));
+        }
+        let drift = p.pos.iter().zip(&self.reference).map(|(x, r)| (*x - *r).length()).fold(0.0, f64::max);
+        let drift = self.comm.max(drift);
+        let injected = self.comm.any(injected);
+        if injected || drift + 4.0 * self.last_move >= 0.5 * self.skin {
+            self.recluster(false);
+        }
+    }
+
+    fn before_frame(&mut self, view: &mut Simulation) {
+        let mine = &self.local.world.particles;
+        let mut outgoing = vec![mine.select(&[]); self.comm.size()];
+        outgoing[0] = mine.clone();
+        let parts: Vec<crate::particles::Particles> = exchange(self.comm, &outgoing);
+        if self.comm.rank() != 0 {
+            return;
+        }
+        let mut all = mine.select(&[]);
+        for part in &parts {
+            all.append(part);
+        }
+        let mut order: Vec<usize> = (0..all.len()).collect();
+        order.sort_unstable_by_key(|&i| all.id[i]);
+        view.world.particles = all.select(&order);
+        view.world.injection.clone_from(&self.injection);
+        view.world.next_id = self.next_id;
+    }
+
+    fn stopping(&mut self, asked: bool) -> bool {
+        self.comm.any(asked || self.failure.is_some())
+    }
+}
+
+/// The references (`ids_then`, `reference`) of the particles `ids` still here: removals only,
+/// every list in id order.
+fn realign(ids: &[u32], (ids_then, reference): (&[u32], &[DVec3])) -> (Vec<DVec3>, Vec<u32>) {
+    let mut kept = Vec::with_capacity(ids.len());
+    let mut k = 0;
+    for &id in ids {
+        while ids_then[k] != id {
+            k += 1;
+        }
+        kept.push(reference[k]);
+    }
+    (kept, ids.to_vec())
+}
