@@ -80,15 +80,18 @@ fn cut(
     let below_ranks = count / 2;
     let total: f64 = order.iter().map(|&i| points[i].1).sum();
     let share = total * below_ranks as f64 / count as f64;
-    // The first point whose weight before it reaches the share starts the upper side.
+    // The upper side starts at the point that brings the weight below nearest the share.
     let mut acc = 0.0;
-    let mut split = order.len();
-    for (k, &i) in order.iter().enumerate() {
-        if acc >= share && k > 0 {
-            split = k;
-            break;
+    let mut split = 0;
+    let mut best = f64::INFINITY;
+    for k in 0..=order.len() {
+        let miss = (acc - share).abs();
+        if miss < best {
+            (best, split) = (miss, k);
         }
-        acc += points[i].1;
+        if let Some(&i) = order.get(k) {
+            acc += points[i].1;
+        }
     }
     // A cut between two points, so that neither is on it; points at the same coordinate all
     // go above (the cut cannot part them).

@@ -167,6 +167,8 @@ struct Parcel {
 pub struct Balance {
     /// Right after the last cut.
     pub after_cut: f64,
+    /// Particles in the run then.
+    pub total_at_cut: usize,
 }
 
 /// What a re-clustering found and did, for the end-of-run table.
@@ -310,7 +312,11 @@ pub fn recluster(
     // Cut again when the counts drift apart — not when a cut cannot help (one cluster larger
     // than a rank's share stays uneven whatever the cuts): only past the imbalance the last cut
     // left, by the threshold.
-    let rebalanced = size > 1 && (rebalance || imbalance > threshold.max(balance.after_cut + threshold));
+    // (A cut made for a run that has since grown or shrunk by more than the threshold — an
+    // injector filling the column — is no guide.)
+    let stale = (total as f64 - balance.total_at_cut as f64).abs() > threshold * balance.total_at_cut as f64;
+    let floor = if stale { threshold } else { threshold.max(balance.after_cut + threshold) };
+    let rebalanced = size > 1 && (rebalance || imbalance > floor);
     if rebalanced {
         let all_parts: Vec<Vec<Part>> = all_gather(comm, &parts);
         let mut whole_clusters: HashMap<u32, (u32, Option<DVec3>)> = HashMap::new();
@@ -340,6 +346,7 @@ pub fn recluster(
         let mean = total as f64 / size as f64;
         balance.after_cut =
             if total > 0 { *counts.iter().max().unwrap_or(&0) as f64 / mean - 1.0 } else { 0.0 };
+        balance.total_at_cut = total;
     }
     Clustering { clusters: clusters_total, largest, moved: moved_total, rebalanced, counts }
 }

@@ -8,6 +8,7 @@
 mod common;
 
 mod determinism_threads;
+mod ranks_identity;
 mod regress_simultaneous_contacts;
 mod regress_step_counts;
 mod stability_bubble;

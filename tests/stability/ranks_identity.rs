@@ -1,0 +1,223 @@
+//! A run split over ranks gives one process's results bit for bit (docs/distributed.md). The
+//! ranks here are threads of the test ([`Threads`]), through the same split and the same run
+//! loop as `mpirun` (CI also runs the shipped scenes under Open MPI: tools/ranks_same.sh):
+//! every frame's particles and every contact event compared, for the border cases the
+//! design must get right — an impact between particles that started on different ranks, a
+//! held pair formed across ranks, an island of lasting contacts across ranks, a held pair that
+//! changes rank during its hold.
+
+use crate::common;
+use glam::DVec3;
+use std::sync::atomic::AtomicBool;
+use wetbounce::output::{OutputError, Sink};
+use wetbounce::ranks::comm::{Comm, Threads};
+use wetbounce::ranks::{Split, SplitReport};
+use wetbounce::run::{Plan, run_plan};
+use wetbounce::{ContactEvent, Outcome, Simulation};
+
+/// Every frame's particles (id, position, velocity, state code) and every event, as bits.
+#[derive(Default, PartialEq, Debug)]
+struct Seen {
+    frames: Vec<(u64, Vec<(u32, [u64; 6], u8)>)>,
+    events: Vec<String>,
+}
+
+impl Sink for Seen {
+    fn frame(&mut self, sim: &Simulation) -> Result<(), OutputError> {
+        let p = &sim.world.particles;
+        let bits = |a: DVec3, b: DVec3| {
+            [a.x.to_bits(), a.y.to_bits(), a.z.to_bits(), b.x.to_bits(), b.y.to_bits(), b.z.to_bits()]
+        };
+        let rows = (0..p.len()).map(|i| (p.id[i], bits(p.pos[i], p.vel[i]), p.state[i].code())).collect();
+        self.frames.push((sim.world.time.to_bits(), rows));
+        Ok(())
+    }
+
+    fn events(&mut self, _sim: &Simulation, events: &[ContactEvent]) -> Result<(), OutputError> {
+        self.events.extend(events.iter().map(|e| format!("{e:?}")));
+        Ok(())
+    }
+}
+
+/// The scene `text` run by one process.
+fn alone(text: &str) -> Seen {
+    let scene = common::scene(text);
+    let (duration, interval) = (scene.duration, scene.output_interval);
+    let mut sim = scene.simulation();
+    let mut seen = Seen::default();
+    let plan = Plan { duration, output_interval: interval, from: None, checkpoints: None, steps: None };
+    run_plan(&mut sim, plan, &mut [&mut seen], &AtomicBool::new(false)).unwrap();
+    seen
+}
+
+/// The scene `text` run on `ranks` thread-ranks: what rank 0's sinks saw, and how the run was
+/// split.
+fn on_ranks(text: &str, ranks: usize) -> (Seen, SplitReport) {
+    let handles: Vec<_> = Threads::set(ranks)
+        .into_iter()
+        .map(|comm| {
+            let text = text.to_string();
+            std::thread::spawn(move || {
+                let scene = common::scene(&text);
+                let (duration, interval) = (scene.duration, scene.output_interval);
+                let mut sim = scene.simulation();
+                let mut split = Split::new(&comm, &sim).unwrap();
+                let mut seen = Seen::default();
+                let plan = Plan {
+                    duration,
+                    output_interval: interval,
+                    from: None,
+                    checkpoints: None,
+                    steps: Some(&mut split),
+                };
+                let sinks: &mut [&mut dyn Sink] = if comm.rank() == 0 { &mut [&mut seen] } else { &mut [] };
+                run_plan(&mut sim, plan, sinks, &AtomicBool::new(false)).unwrap();
+                assert!(split.failure().is_none(), "{:?}", split.failure());
+                (seen, split.report.clone())
+            })
+        })
+        .collect();
+    let mut results: Vec<(Seen, SplitReport)> = handles.into_iter().map(|h| h.join().unwrap()).collect();
+    results.swap_remove(0)
+}
+
+/// Asserts that 2 and 3 ranks see what one process sees, and returns one process's run and
+/// the reports of the splits.
+fn same_on_ranks(text: &str) -> (Seen, Vec<SplitReport>) {
+    let one = alone(text);
+    assert!(!one.frames.is_empty());
+    let mut reports = Vec::new();
+    for ranks in [2, 3] {
+        let (seen, report) = on_ranks(text, ranks);
+        assert_eq!(seen.events, one.events, "events on {ranks} ranks");
+        assert!(seen.frames == one.frames, "particles differ on {ranks} ranks");
+        reports.push(report);
+    }
+    (one, reports)
+}
+
+/// Glass beads in water, no walls but what `walls` says, the beads given as `[[particles]]`.
+fn beads(effects: &str, walls: &str, particles: &[(DVec3, DVec3)], duration: f64) -> String {
+    let mut text = format!(
+        r#"
+[simulation]
+dt = 1e-4
+duration = {duration}
+output_interval = 0.01
+[fluid]
+density = 997.0
+viscosity = 0.89e-3
+[effects]
+{effects}
+[[kinds]]
+name = "glass"
+type = "solid"
+density = 2500.0
+youngs_modulus = 6.3e10
+poisson_ratio = 0.23
+restitution_max = 0.97
+{walls}
+"#
+    );
+    for (x, v) in particles {
+        text += &format!(
+            "[[particles]]\nkind = \"glass\"\ndiameter = 3e-3\nposition = [{:?}, {:?}, {:?}]\nvelocity = [{:?}, {:?}, {:?}]\n",
+            x.x, x.y, x.z, v.x, v.y, v.z
+        );
+    }
+    text
+}
+
+#[test]
+fn two_beads_from_different_ranks_collide_as_in_one_process() {
+    // Ten pairs along x, far apart at the start (the cut falls between the halves), each pair
+    // meeting head-on, with no force acting.
+    let mut particles = Vec::new();
+    for k in 0..10 {
+        let y = k as f64 * 0.01;
+        particles.push((DVec3::new(-0.02, y, 0.0), DVec3::new(0.3, 0.0, 0.0)));
+        particles.push((DVec3::new(0.02, y, 0.0), DVec3::new(-0.3, 0.0, 0.0)));
+    }
+    let (one, reports) = same_on_ranks(&beads("", "", &particles, 0.15));
+    assert!(one.events.iter().any(|e| e.contains("Particle")), "the beads must meet");
+    for r in &reports {
+        assert!(r.moved > 0, "a bead changed rank to meet its partner: {r:?}");
+    }
+}
+
+/// Two toluene drops in water meeting head-on and held together for their contact time, with a
+/// sideways velocity that carries the held pair across the domains' cut.
+fn drops(sideways: f64) -> String {
+    let mut text = String::from(
+        r#"
+[simulation]
+dt = 1e-4
+duration = 0.3
+output_interval = 0.01
+[fluid]
+density = 997.0
+viscosity = 0.89e-3
+[effects]
+contact_time = {}
+[[kinds]]
+name = "toluene"
+type = "drop"
+density = 860.0
+surface_tension = 0.026
+restitution_max = 0.91
+"#,
+    );
+    // Pairs spread along y; each meets at x = 0 while drifting along y.
+    for k in 0..8 {
+        let y = -0.04 + 0.01 * k as f64;
+        for (x, vx) in [(-0.005, 0.1), (0.005, -0.1)] {
+            text += &format!(
+                "[[particles]]\nkind = \"toluene\"\ndiameter = 2.5e-3\nposition = [{x:?}, {y:?}, 0.0]\nvelocity = [{vx:?}, {sideways:?}, 0.0]\n"
+            );
+        }
+    }
+    text
+}
+
+#[test]
+fn drops_held_together_across_ranks_are_held_as_in_one_process() {
+    let (one, _) = same_on_ranks(&drops(0.0));
+    assert!(one.events.iter().any(|e| e.contains(&format!("{:?}", Outcome::Held))), "the drops must be held");
+}
+
+#[test]
+fn a_held_pair_that_changes_rank_during_its_hold_is_released_as_in_one_process() {
+    // Drifting fast along y, the pairs cross the cuts between the ranks' domains (drawn along
+    // y, the longest side) while held; a re-clustering during the hold moves them.
+    let (one, reports) = same_on_ranks(&drops(0.3));
+    assert!(one.events.iter().any(|e| e.contains(&format!("{:?}", Outcome::Held))), "the drops must be held");
+    for r in &reports {
+        assert!(r.moved > 0 && r.reclusterings > 2, "{r:?}");
+    }
+}
+
+#[test]
+fn an_island_of_lasting_contacts_across_ranks_settles_as_in_one_process() {
+    // Nine beads resting on a floor, and eighteen more falling onto them from 25 mm above: two
+    // sets too far apart to touch at first, which the first split puts on different ranks, and
+    // which end as one island of lasting contacts.
+    let mut particles = Vec::new();
+    for k in 0..27 {
+        let (i, j, l) = ((k % 3) as f64, ((k / 3) % 3) as f64, (k / 9) as f64);
+        let z = if l == 0.0 { 1.6e-3 } else { 25e-3 + l * 3.4e-3 };
+        particles.push((DVec3::new(i * 3.3e-3, j * 3.3e-3, z), DVec3::ZERO));
+    }
+    let walls = r#"
+[[walls]]
+name = "floor"
+type = "plane"
+point = [0.0, 0.0, 0.0]
+normal = [0.0, 0.0, 1.0]
+"#;
+    let effects = "gravity = {}\nbuoyancy = {}\ndrag = {}\nadded_mass = {}";
+    let (one, reports) = same_on_ranks(&beads(effects, walls, &particles, 0.4));
+    assert!(one.events.iter().any(|e| e.contains("Particle")), "the beads must touch");
+    for r in &reports {
+        assert!(r.last.largest > 9 && r.moved > 0, "the sets met on one rank: {r:?}");
+    }
+}
