@@ -105,6 +105,10 @@ enum Command {
         /// (refused otherwise).
         #[arg(long)]
         allow_large_memory: bool,
+        /// Also say how a run on K ranks (`mpirun -np K`) would split the scene's particles at
+        /// its start: particles per rank, clusters, balance (docs/distributed.md).
+        #[arg(long, value_name = "K", value_parser = clap::value_parser!(u16).range(1..))]
+        ranks: Option<u16>,
     },
     /// Go on with a run from one of its checkpoints (DIR/checkpoints/checkpoint-*.wbck): the CSV
     /// files and the ParaView collection continue where the checkpoint left them, an MCAP
@@ -156,8 +160,8 @@ fn main() -> ExitCode {
             let comm: Option<&dyn Comm> = None;
             run_scene(&args, comm)
         }
-        Command::Check { scene, allow_long_run, allow_large_memory } => {
-            check_scene(&scene, LoadOptions { allow_long_run, allow_large_memory })
+        Command::Check { scene, allow_long_run, allow_large_memory, ranks } => {
+            check_scene(&scene, LoadOptions { allow_long_run, allow_large_memory }, ranks.map(usize::from))
                 .map(|text| (text, ExitCode::SUCCESS))
         }
         Command::Resume { checkpoint, out, scene, formats, threads, quiet, checkpoints } => {
@@ -414,6 +418,33 @@ fn resume_run(args: &ResumeArgs) -> Result<(String, ExitCode), String> {
     Ok(finish_run(driver, &sim, result, (&scene, &scene_path, scene.output_interval), &signals))
 }
 
+/// How `k` ranks would split the scene at its start: the run's own split, on `k` threads of
+/// this process standing in for the ranks.
+fn split_report(scene: &Scene, k: usize) -> Result<Vec<String>, String> {
+    let sim = scene.simulation();
+    let reports: Vec<Result<wetbounce::ranks::SplitReport, String>> = std::thread::scope(|s| {
+        let handles: Vec<_> = wetbounce::ranks::comm::Threads::set(k)
+            .into_iter()
+            .map(|comm| {
+                let sim = &sim;
+                s.spawn(move || {
+                    Split::new(&comm, sim).map(|split| split.report.clone()).map_err(|e| e.to_string())
+                })
+            })
+            .collect();
+        handles.into_iter().map(|h| h.join().unwrap_or_else(|_| Err("a rank failed".into()))).collect()
+    });
+    let report = reports.into_iter().next().unwrap_or_else(|| Err("no rank".into()))?;
+    let mut lines = vec![format!("on {k} ranks, at the start:")];
+    lines.extend(report.lines().into_iter().map(|l| format!("  {l}")));
+    let field = scene.estimate.field_bytes;
+    lines.push(format!(
+        "  every rank holds the walls{}: the particles are split, the rest is not",
+        if field > 0.0 { format!(" and the flow field ({:.1} MB)", field / 1e6) } else { String::new() }
+    ));
+    Ok(lines)
+}
+
 /// `--threads N`: rayon's pool of N workers.
 fn set_threads(threads: Option<u16>) -> Result<(), String> {
     if let Some(n) = threads {
@@ -519,7 +550,7 @@ fn output_interval(scene: &Scene, args: &RunArgs) -> Result<f64, String> {
     Ok(s)
 }
 
-fn check_scene(path: &Path, options: LoadOptions) -> Result<String, String> {
+fn check_scene(path: &Path, options: LoadOptions, ranks: Option<usize>) -> Result<String, String> {
     let mut text = String::new();
     let scene = Scene::load_with(path, options).map_err(|e| e.to_string())?;
     let _ = writeln!(text, "{}: valid", path.display());
@@ -617,6 +648,11 @@ fn check_scene(path: &Path, options: LoadOptions) -> Result<String, String> {
     }
     for line in field_report(&scene) {
         let _ = writeln!(text, "  {line}");
+    }
+    if let Some(k) = ranks {
+        for line in split_report(&scene, k)? {
+            let _ = writeln!(text, "  {line}");
+        }
     }
     for line in cost_report(&scene) {
         let _ = writeln!(text, "  {line}");

@@ -33,16 +33,16 @@ same() {
 }
 for scene in "${scenes[@]}"; do
   stem=$(basename "$scene" .toml)
-  start=$(date +%s.%N)
+  start=$(date +%s%N)
   "$bin" run "$scene" --out "$out/$stem-1" --formats mcap,csv --quiet >/dev/null
-  one=$(echo "$(date +%s.%N) - $start" | bc)
+  one=$(awk -v a="$start" -v b="$(date +%s%N)" 'BEGIN { print (b - a) / 1e9 }')
   for k in "${counts[@]}"; do
-    start=$(date +%s.%N)
+    start=$(date +%s%N)
     if ! mpirun "${root[@]}" --oversubscribe -np "$k" "$bin" run "$scene" --out "$out/$stem-$k" \
         --formats mcap,csv --quiet >"$out/$stem-$k.txt" 2>&1; then
       echo "FAILED  $stem on $k ranks:"; tail -5 "$out/$stem-$k.txt"; failed=1; continue
     fi
-    many=$(echo "$(date +%s.%N) - $start" | bc)
+    many=$(awk -v a="$start" -v b="$(date +%s%N)" 'BEGIN { print (b - a) / 1e9 }')
     differ=()
     for f in "$out/$stem-1"/*; do
       same "$f" "$out/$stem-$k/$(basename "$f")" || differ+=("$(basename "$f")")

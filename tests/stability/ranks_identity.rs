@@ -221,3 +221,35 @@ normal = [0.0, 0.0, 1.0]
         assert!(r.last.largest > 9 && r.moved > 0, "the sets met on one rank: {r:?}");
     }
 }
+
+/// The shipped `bench_*` scenes (copies of the peers' benchmarks: 10⁴ beads for 20,000 steps,
+/// too long for CI's `mpirun` check of the shipped scenes) cut to 120 steps, on 2 and 3 ranks:
+/// the dense bed with friction among them, whose lasting-contact sweeps the ranks agree on.
+#[test]
+fn the_benchmark_scenes_cut_short_run_as_in_one_process() {
+    for name in [
+        "bench_bed_friction",
+        "bench_dilute",
+        "bench_paper",
+        "bench_paper_full",
+        "bench_paper_history",
+        "bench_paper_lubrication",
+    ] {
+        let path = format!("{}/scenes/{name}.toml", env!("CARGO_MANIFEST_DIR"));
+        let text = std::fs::read_to_string(path).unwrap();
+        let text: Vec<String> = text
+            .lines()
+            .map(|l| {
+                if l.starts_with("duration =") {
+                    "duration = 1.0524e-3".to_string()
+                } else if l.starts_with("output_interval =") {
+                    "output_interval = 2.631e-4".to_string()
+                } else {
+                    l.to_string()
+                }
+            })
+            .collect();
+        let (one, _) = same_on_ranks(&text.join("\n"));
+        assert_eq!(one.frames.len(), 5, "{name}");
+    }
+}
