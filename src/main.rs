@@ -158,6 +158,9 @@ fn main() -> ExitCode {
             let comm = mpi.as_ref().map(|m| m as &dyn Comm).filter(|c| c.size() > 1);
             #[cfg(not(feature = "mpi"))]
             let comm: Option<&dyn Comm> = None;
+            if let Some(quiet) = launched_without_mpi() {
+                return quiet;
+            }
             run_scene(&args, comm)
         }
         Command::Check { scene, allow_long_run, allow_large_memory, ranks } => {
@@ -166,7 +169,16 @@ fn main() -> ExitCode {
         }
         Command::Resume { checkpoint, out, scene, formats, threads, quiet, checkpoints } => {
             let args = ResumeArgs { checkpoint, out, scene, formats, threads, quiet, checkpoints };
-            resume_run(&args)
+            #[cfg(feature = "mpi")]
+            let mpi = wetbounce::ranks::mpi::Mpi::init();
+            #[cfg(feature = "mpi")]
+            let comm = mpi.as_ref().map(|m| m as &dyn Comm).filter(|c| c.size() > 1);
+            #[cfg(not(feature = "mpi"))]
+            let comm: Option<&dyn Comm> = None;
+            if let Some(quiet) = launched_without_mpi() {
+                return quiet;
+            }
+            resume_run(&args, comm)
         }
         Command::Recover { input, output } => {
             recover_mcap(&input, output.as_deref()).map(|text| (text, ExitCode::SUCCESS))
@@ -191,12 +203,45 @@ fn main() -> ExitCode {
     }
 }
 
+/// A build without the `mpi` feature started by `mpirun -np K` (K > 1) would run K copies of the
+/// same run writing the same files: refused, by rank 0 (Open MPI's and MPICH's variables tell);
+/// the other copies stop quietly.
+fn launched_without_mpi() -> Option<ExitCode> {
+    if cfg!(feature = "mpi") {
+        return None;
+    }
+    let var = |names: &[&str]| names.iter().find_map(|n| std::env::var(n).ok()?.parse::<u64>().ok());
+    let size = var(&["OMPI_COMM_WORLD_SIZE", "PMI_SIZE"])?;
+    if size < 2 {
+        return None;
+    }
+    if var(&["OMPI_COMM_WORLD_RANK", "PMI_RANK"]).unwrap_or(0) == 0 {
+        eprintln!(
+            "error: started on {size} MPI ranks, but this wetbounce was built without MPI: the {size} \
+             copies would each run the whole scene and write the same files. Build it with \
+             `cargo build --release --features mpi` (docs/distributed.md), or run it alone"
+        );
+    }
+    Some(ExitCode::FAILURE)
+}
+
 fn run_scene(args: &RunArgs, comm: Option<&dyn Comm>) -> Result<(String, ExitCode), String> {
     // First of all, so that a signal that comes while the scene loads also stops the run
     // cleanly (after its first frame) rather than killing it.
     let signals = StopSignals::install().map_err(|e| format!("cannot install the signal handlers: {e}"))?;
     let root = comm.is_none_or(|c| c.rank() == 0);
-    let prepared = prepare_run(args, root, comm.is_some());
+    drive(comm, prepare_run(args, root), &signals)
+}
+
+/// Steps a prepared run (a fresh or a resumed one) to its end: in this process, or split over
+/// the ranks of `comm` (docs/distributed.md). Returns the end-of-run report, empty on ranks
+/// other than 0, and the exit status.
+fn drive(
+    comm: Option<&dyn Comm>,
+    prepared: Result<Prepared, String>,
+    signals: &StopSignals,
+) -> Result<(String, ExitCode), String> {
+    let root = comm.is_none_or(|c| c.rank() == 0);
     // On ranks, every rank goes on or none does: one that stopped alone would leave the others
     // waiting for it. Rank 0 names the error; the others stop quietly.
     if let Some(c) = comm
@@ -207,11 +252,10 @@ fn run_scene(args: &RunArgs, comm: Option<&dyn Comm>) -> Result<(String, ExitCod
             _ => Ok((String::new(), ExitCode::FAILURE)),
         };
     }
-    let Prepared { scene, mut driver, mut progress, mut sim, output_interval } = prepared?;
-    let path = args.scene.as_path();
+    let Prepared { scene, mut driver, mut progress, mut sim, output_interval, path } = prepared?;
     let Some(comm) = comm else {
         let result = driver.run(&mut sim, vec![&mut progress], signals.flag());
-        return Ok(finish_run(driver, &sim, result, (&scene, path, output_interval), &signals));
+        return Ok(finish_run(driver, &sim, result, (&scene, &path, output_interval), signals));
     };
     let mut split = Split::new(comm, &sim)
         .map_err(|e| format!("{}: cannot hold this rank's particles: {e}", path.display()))?;
@@ -226,10 +270,18 @@ fn run_scene(args: &RunArgs, comm: Option<&dyn Comm>) -> Result<(String, ExitCod
         let ok = result.is_ok() && failure.is_none();
         return Ok((String::new(), if ok { ExitCode::SUCCESS } else { ExitCode::FAILURE }));
     }
+    // Rank 0 stopped on an output error of its own while the others step on: they are told by
+    // ending the whole run once every file rank 0 holds is finished (below).
+    let abandoned = result.is_err();
     sim.record.stage_times = split.local().record.stage_times;
-    let (mut text, code) = finish_run(driver, &sim, result, (&scene, path, output_interval), &signals);
+    let (mut text, code) = finish_run(driver, &sim, result, (&scene, &path, output_interval), signals);
     for line in lines {
         let _ = writeln!(text, "{line}");
+    }
+    if abandoned {
+        print!("{text}");
+        let _ = std::io::stdout().flush();
+        comm.abandon(1);
     }
     if let Some(f) = failure {
         eprintln!("error: {f}");
@@ -246,11 +298,13 @@ struct Prepared {
     progress: Progress,
     sim: wetbounce::Simulation,
     output_interval: f64,
+    /// The scene file, as the report names it.
+    path: PathBuf,
 }
 
 /// Loads the scene and opens the outputs. `root`: this process writes the files (the only
-/// process, or rank 0 of a run on ranks, which takes no checkpoint yet: `on_ranks`).
-fn prepare_run(args: &RunArgs, root: bool, on_ranks: bool) -> Result<Prepared, String> {
+/// process, or rank 0 of a run on ranks).
+fn prepare_run(args: &RunArgs, root: bool) -> Result<Prepared, String> {
     let path = args.scene.as_path();
     set_threads(args.threads)?;
     let formats = args.formats.clone().unwrap_or_else(Format::defaults);
@@ -262,13 +316,6 @@ fn prepare_run(args: &RunArgs, root: bool, on_ranks: bool) -> Result<Prepared, S
     let mut scene = Scene::load_with(path, options).map_err(|e| e.to_string())?;
     let output_interval = output_interval(&scene, args)?;
     let policy = args.checkpoints.policy(&scene.checkpoint)?;
-    if on_ranks && (policy.every.is_some() || policy.wall.is_some()) {
-        return Err(format!(
-            "{}: checkpoints (--checkpoint-every, --checkpoint-wall or [checkpoint]) are not taken by a \
-             run on several ranks yet; run on one rank to checkpoint",
-            path.display()
-        ));
-    }
     // The scene's particles move into the simulation: a run holds one copy of them.
     let take = |scene: &mut Scene| scene.take_simulation().map_err(|e| e.to_string());
     if !root {
@@ -276,7 +323,7 @@ fn prepare_run(args: &RunArgs, root: bool, on_ranks: bool) -> Result<Prepared, S
             .map_err(|errors| errors.iter().map(ToString::to_string).collect::<Vec<_>>().join("\nerror: "))?;
         let sim = take(&mut scene)?;
         let progress = Progress::new(scene.duration, true);
-        return Ok(Prepared { scene, driver, progress, sim, output_interval });
+        return Ok(Prepared { scene, driver, progress, sim, output_interval, path: path.to_path_buf() });
     }
     let stem = path.file_stem().map_or("scene".into(), |s| s.to_string_lossy().into_owned());
     let out = args.out.clone().unwrap_or_else(|| Path::new("out").join(&stem));
@@ -315,10 +362,10 @@ fn prepare_run(args: &RunArgs, root: bool, on_ranks: bool) -> Result<Prepared, S
             eprintln!("note: removed {}: a checkpoint of an earlier run", old.display());
         }
     }
-    let driver = if on_ranks { driver } else { driver.checkpointing(checkpoints) };
+    let driver = driver.checkpointing(checkpoints);
     let progress = Progress::new(scene.duration, args.quiet);
     let sim = take(&mut scene)?;
-    Ok(Prepared { scene, driver, progress, sim, output_interval })
+    Ok(Prepared { scene, driver, progress, sim, output_interval, path: path.to_path_buf() })
 }
 
 /// Ends a run (fresh or resumed): `summary.json`, the report on standard output, the exit status.
@@ -374,12 +421,36 @@ struct ResumeArgs {
     checkpoints: CheckpointArgs,
 }
 
-fn resume_run(args: &ResumeArgs) -> Result<(String, ExitCode), String> {
+fn resume_run(args: &ResumeArgs, comm: Option<&dyn Comm>) -> Result<(String, ExitCode), String> {
     let signals = StopSignals::install().map_err(|e| format!("cannot install the signal handlers: {e}"))?;
+    let root = comm.is_none_or(|c| c.rank() == 0);
+    drive(comm, prepare_resume(args, root), &signals)
+}
+
+/// Reads the checkpoint and, on the process that writes the files (`root`), carries the run's
+/// files and opens them where the checkpoint left them. Every rank of a run on ranks reads the
+/// checkpoint (the same path on every machine).
+fn prepare_resume(args: &ResumeArgs, root: bool) -> Result<Prepared, String> {
     set_threads(args.threads)?;
     let resumed =
         wetbounce::run::resume::resume(&args.checkpoint, args.scene.as_deref()).map_err(|e| e.to_string())?;
-    let wetbounce::run::resume::Resumed { mut saved, scene, mut sim, .. } = resumed;
+    let wetbounce::run::resume::Resumed { mut saved, scene, sim, .. } = resumed;
+    // A new output interval (`--scene`) counts frames from the checkpoint's time on.
+    if scene.output_interval != saved.scene.output_interval {
+        let t = sim.world.time;
+        saved.position.k = wetbounce::run::RunPosition::next_index(t, scene.output_interval);
+        saved.position.at_frame = false;
+        saved.scene.output_interval = scene.output_interval;
+    }
+    let scene_path = saved.scene.given.clone();
+    let output_interval = scene.output_interval;
+    if !root {
+        let driver = Driver::new(None, &[], scene.duration, output_interval)
+            .map_err(|errors| errors.iter().map(ToString::to_string).collect::<Vec<_>>().join("\nerror: "))?
+            .from_position(saved.position);
+        let progress = Progress::new(scene.duration, true);
+        return Ok(Prepared { scene, driver, progress, sim, output_interval, path: scene_path });
+    }
     let formats = match &args.formats {
         Some(f) => f.clone(),
         None => saved.scene.formats.iter().map(|n| Format::parse(n)).collect::<Result<_, _>>()?,
@@ -391,7 +462,7 @@ fn resume_run(args: &ResumeArgs) -> Result<(String, ExitCode), String> {
     let out = args.out.clone().unwrap_or_else(|| from.clone());
     wetbounce::run::resume::carry_outputs(&from, &out, &saved)
         .map_err(|e| format!("{}: cannot carry the run's files to {}: {e}", from.display(), out.display()))?;
-    let (stem, scene_path) = (saved.scene.stem.clone(), saved.scene.given.clone());
+    let stem = saved.scene.stem.clone();
     let folder = Folder {
         out: &out,
         stem: &stem,
@@ -400,22 +471,14 @@ fn resume_run(args: &ResumeArgs) -> Result<(String, ExitCode), String> {
         max_spheres: saved.scene.max_spheres,
         rotation: scene.setup.physics.rotation,
     };
-    // A new output interval (`--scene`) counts frames from the checkpoint's time on.
-    if scene.output_interval != saved.scene.output_interval {
-        let t = sim.world.time;
-        saved.position.k = wetbounce::run::RunPosition::next_index(t, scene.output_interval);
-        saved.position.at_frame = false;
-        saved.scene.output_interval = scene.output_interval;
-    }
     saved.scene.formats = formats.iter().map(|f| f.name().to_string()).collect();
     let policy = args.checkpoints.policy(&scene.checkpoint)?;
     let checkpoints = Checkpoints::new(policy, &out.join("checkpoints"), saved.scene.clone(), sim.world.time);
     let driver = Driver::resume(&folder, &formats, scene.duration, &saved)
         .map_err(|errors| errors.iter().map(ToString::to_string).collect::<Vec<_>>().join("\nerror: "))?;
-    let mut driver = driver.checkpointing(checkpoints);
-    let mut progress = Progress::new(scene.duration, args.quiet);
-    let result = driver.run(&mut sim, vec![&mut progress], signals.flag());
-    Ok(finish_run(driver, &sim, result, (&scene, &scene_path, scene.output_interval), &signals))
+    let driver = driver.checkpointing(checkpoints);
+    let progress = Progress::new(scene.duration, args.quiet);
+    Ok(Prepared { scene, driver, progress, sim, output_interval, path: scene_path })
 }
 
 /// How `k` ranks would split the scene at its start: the run's own split, on `k` threads of

@@ -153,13 +153,55 @@ struct Part {
     key: Option<DVec3>,
 }
 
-/// What one rank sends another when particles change owner.
+/// Particles sent to another rank (when they change owner, or to rank 0 for a checkpoint),
+/// with their lasting contacts and their walls' last forces.
 #[derive(Debug, Clone, Default, serde::Serialize, serde::Deserialize)]
-struct Parcel {
-    particles: Particles,
+pub(crate) struct Parcel {
+    pub particles: Particles,
     /// The lasting contacts among them, by particle ids, in this rank's order.
-    lasting: Vec<([u32; 2], LastingContact)>,
-    walls: Vec<WallContact>,
+    pub lasting: Vec<([u32; 2], LastingContact)>,
+    pub walls: Vec<WallContact>,
+}
+
+impl Parcel {
+    /// All of `world`'s particles, lasting contacts and walls' forces.
+    pub fn of(world: &World) -> Parcel {
+        let p = &world.particles;
+        Parcel {
+            particles: p.clone(),
+            lasting: world.lasting.iter().map(|c| ([p.id[c.a as usize], p.id[c.b as usize]], *c)).collect(),
+            walls: world.wall_contacts.clone(),
+        }
+    }
+
+    /// `parts` (each in id order) as one world's particles in id order, with the lasting
+    /// contacts (renumbered; each part's in its order, parts in turn) and the walls' forces
+    /// (sorted by particle and wall, their order in one process).
+    pub fn merge(parts: Vec<Parcel>) -> Parcel {
+        let mut merged = Parcel::default();
+        for (k, part) in parts.into_iter().enumerate() {
+            if k == 0 {
+                merged.particles = part.particles;
+            } else {
+                merged.particles.append(&part.particles);
+            }
+            merged.lasting.extend(part.lasting);
+            merged.walls.extend(part.walls);
+        }
+        let mut order: Vec<usize> = (0..merged.particles.len()).collect();
+        order.sort_unstable_by_key(|&i| merged.particles.id[i]);
+        merged.particles = merged.particles.select(&order);
+        merged.walls.sort_unstable_by_key(|c| (c.id, c.wall));
+        merged
+    }
+
+    /// The lasting contacts renumbered to the indices of `particles`.
+    pub fn renumbered(&self) -> Vec<LastingContact> {
+        let ids = &self.particles.id;
+        let index =
+            |id: u32| ids.binary_search(&id).expect("a lasting contact's particles came with it") as u32;
+        self.lasting.iter().map(|&([a, b], c)| LastingContact { a: index(a), b: index(b), ..c }).collect()
+    }
 }
 
 /// The imbalance the last cut of the domains left (largest count over the mean, less one).
@@ -395,23 +437,10 @@ fn migrate(comm: &dyn Comm, world: &mut World, owner: &[usize]) {
     let received: Vec<Parcel> = exchange(comm, &parcels);
     // Kept first, then what came, in rank order: a cluster's own lasting contacts keep their
     // order (the only order that matters: contacts of different clusters never meet).
-    let mut merged = kept;
-    for parcel in received.into_iter().filter(|r| !r.particles.is_empty()) {
-        merged.particles.append(&parcel.particles);
-        merged.lasting.extend(parcel.lasting);
-        merged.walls.extend(parcel.walls);
-    }
-    let mut order: Vec<usize> = (0..merged.particles.len()).collect();
-    order.sort_unstable_by_key(|&i| merged.particles.id[i]);
-    world.particles = merged.particles.select(&order);
-    let ids = &world.particles.id;
-    let index = |id: u32| ids.binary_search(&id).expect("a lasting contact's particles came with it") as u32;
-    world.lasting = merged
-        .lasting
-        .into_iter()
-        .map(|([a, b], c)| LastingContact { a: index(a), b: index(b), ..c })
-        .collect();
-    merged.walls.sort_unstable_by_key(|c| (c.id, c.wall));
+    let parts = std::iter::once(kept).chain(received.into_iter().filter(|r| !r.particles.is_empty()));
+    let merged = Parcel::merge(parts.collect());
+    world.lasting = merged.renumbered();
+    world.particles = merged.particles;
     world.wall_contacts = merged.walls;
     world.neighbours.invalidate();
 }

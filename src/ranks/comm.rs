@@ -32,6 +32,10 @@ pub trait Comm {
     fn any(&self, b: bool) -> bool {
         self.all_gather(&[b as u8]).iter().any(|v| v[0] != 0)
     }
+    /// Ends the whole run, every rank, with exit status `code`: what a rank that cannot go on
+    /// does once its files are finished, so that the others do not wait for it forever. Threads
+    /// and one process have nothing to end.
+    fn abandon(&self, _code: i32) {}
 }
 
 /// Serialises `value` for a [`Comm`]. Our own plain data: serialising it cannot fail short of

@@ -40,7 +40,7 @@ use crate::pipeline::outlets::Removal;
 use crate::pipeline::{LostParticle, Simulation};
 use crate::run::Steps;
 use bisection::Domains;
-use clusters::{Balance, Clustering, recluster};
+use clusters::{Balance, Clustering, Parcel, recluster};
 use comm::{Comm, all_gather, exchange};
 use glam::DVec3;
 use std::cell::Cell;
@@ -365,26 +365,53 @@ impl Steps for Split<'_> {
     }
 
     fn before_frame(&mut self, view: &mut Simulation) {
-        let mine = &self.local.world.particles;
-        let mut outgoing = vec![mine.select(&[]); self.comm.size()];
-        outgoing[0] = mine.clone();
-        let parts: Vec<crate::particles::Particles> = exchange(self.comm, &outgoing);
-        if self.comm.rank() != 0 {
-            return;
-        }
-        let mut all = mine.select(&[]);
-        for part in &parts {
-            all.append(part);
-        }
-        let mut order: Vec<usize> = (0..all.len()).collect();
-        order.sort_unstable_by_key(|&i| all.id[i]);
-        view.world.particles = all.select(&order);
-        view.world.injection.clone_from(&self.injection);
-        view.world.next_id = self.next_id;
+        self.gather(view, false);
+    }
+
+    fn checkpointing(&mut self, due: bool) -> bool {
+        self.comm.any(due)
+    }
+
+    fn before_checkpoint(&mut self, view: &mut Simulation) {
+        self.gather(view, true);
     }
 
     fn stopping(&mut self, asked: bool) -> bool {
         self.comm.any(asked || self.failure.is_some())
+    }
+}
+
+impl Split<'_> {
+    /// Gathers every rank's particles into `view` on rank 0, in id order; with `whole`, also
+    /// the lasting contacts and the walls' forces: the world one process would hold, which a
+    /// checkpoint saves (its neighbour list left to be built again: it changes no result).
+    fn gather(&mut self, view: &mut Simulation, whole: bool) {
+        let world = &self.local.world;
+        let mine = if whole {
+            Parcel::of(world)
+        } else {
+            Parcel { particles: world.particles.clone(), ..Parcel::default() }
+        };
+        let mut outgoing = vec![Parcel::default(); self.comm.size()];
+        outgoing[0] = mine;
+        let parts: Vec<Parcel> = exchange(self.comm, &outgoing);
+        if self.comm.rank() != 0 {
+            return;
+        }
+        let merged = Parcel::merge(parts.into_iter().filter(|p| !p.particles.is_empty()).collect());
+        if whole {
+            view.world.lasting = merged.renumbered();
+            view.world.wall_contacts = merged.walls;
+            view.world.neighbours = Default::default();
+        }
+        // With no particle anywhere, the store keeps its features' columns.
+        view.world.particles = if merged.particles.id.is_empty() {
+            self.local.world.particles.select(&[])
+        } else {
+            merged.particles
+        };
+        view.world.injection.clone_from(&self.injection);
+        view.world.next_id = self.next_id;
     }
 }
 

@@ -25,12 +25,6 @@ impl Mpi {
         let world = universe.world();
         Some(Mpi { world, _universe: universe })
     }
-
-    /// Stops every rank of the run at once, with `code` as `mpirun`'s exit status: what a rank
-    /// that cannot go on does, so that the others do not wait for it forever.
-    pub fn abort(&self, code: i32) -> ! {
-        self.world.abort(code)
-    }
 }
 
 /// The offsets of parts of the given lengths laid end to end, and their total.
@@ -103,5 +97,9 @@ impl Comm for Mpi {
         let mut out = 0i32;
         self.world.all_reduce_into(&(b as i32), &mut out, SystemOperation::max());
         out != 0
+    }
+
+    fn abandon(&self, code: i32) {
+        self.world.abort(code)
     }
 }

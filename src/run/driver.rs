@@ -94,6 +94,13 @@ impl Driver {
         })
     }
 
+    /// A driver whose run loop starts where a checkpoint left it (`position`), with the files
+    /// it has (none, on a rank other than 0 of a run on ranks).
+    pub fn from_position(mut self, position: RunPosition) -> Self {
+        self.from = Some(position);
+        self
+    }
+
     /// Takes `checkpoints` as the run goes (docs/output.md, "Checkpoints").
     pub fn checkpointing(mut self, checkpoints: Checkpoints) -> Self {
         self.checkpoints = Some(checkpoints);

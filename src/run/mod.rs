@@ -82,6 +82,13 @@ pub trait Steps {
     fn stopping(&mut self, asked: bool) -> bool {
         asked
     }
+    /// Whether a checkpoint is taken now, given whether this process would take one: ranks
+    /// take it together (only rank 0 writes it).
+    fn checkpointing(&mut self, due: bool) -> bool {
+        due
+    }
+    /// Before a checkpoint is taken: `sim` holds the whole world.
+    fn before_checkpoint(&mut self, _sim: &mut Simulation) {}
 }
 
 /// One process steps the whole simulation.
@@ -146,11 +153,12 @@ pub fn run_plan(
                 frame_written = false;
                 at.at_frame = true;
                 if sim.world.time >= duration {
-                    if let Some(c) = checkpoints.as_deref_mut()
-                        && c.periodic()
-                    {
-                        at.wall_time = wall_before + start.elapsed().as_secs_f64();
-                        c.take(sim, at, sinks)?;
+                    if steps.checkpointing(checkpoints.as_deref().is_some_and(Checkpoints::periodic)) {
+                        steps.before_checkpoint(sim);
+                        if let Some(c) = checkpoints.as_deref_mut() {
+                            at.wall_time = wall_before + start.elapsed().as_secs_f64();
+                            c.take(sim, at, sinks)?;
+                        }
                     }
                     return Ok(false);
                 }
@@ -185,11 +193,12 @@ pub fn run_plan(
                 // stop signal, with a last frame; the caller reports `record.left_field`.
                 let stopping =
                     steps.stopping(stop.load(Ordering::Relaxed) || sim.record.left_field.is_some());
-                if let Some(c) = checkpoints.as_deref_mut()
-                    && (stopping || c.due(sim))
-                {
-                    at.wall_time = wall_before + start.elapsed().as_secs_f64();
-                    c.take(sim, at, sinks)?;
+                if steps.checkpointing(checkpoints.as_deref().is_some_and(|c| stopping || c.due(sim))) {
+                    steps.before_checkpoint(sim);
+                    if let Some(c) = checkpoints.as_deref_mut() {
+                        at.wall_time = wall_before + start.elapsed().as_secs_f64();
+                        c.take(sim, at, sinks)?;
+                    }
                 }
                 if stopping {
                     steps.before_frame(sim);

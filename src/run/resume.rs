@@ -202,5 +202,11 @@ pub fn carry_outputs(from: &Path, to: &Path, saved: &Saved) -> std::io::Result<(
             SinkMark::Statistics(_) => {}
         }
     }
+    // The Foxglove layout the first part's MCAP wrote at its first frame (a resumed MCAP part
+    // writes none: the run's layout is that one).
+    let layout = crate::output::mcap::layout::file_name(stem);
+    if from.join(&layout).is_file() {
+        std::fs::copy(from.join(&layout), to.join(&layout))?;
+    }
     Ok(())
 }

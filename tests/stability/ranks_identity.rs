@@ -253,3 +253,73 @@ fn the_benchmark_scenes_cut_short_run_as_in_one_process() {
         assert_eq!(one.frames.len(), 5, "{name}");
     }
 }
+
+/// What rank 0 gathers for a checkpoint is the world one process holds at that step, and one
+/// process going on from it writes what a run never split writes: drops colliding and held
+/// while pairs drift across the ranks' domains, checkpointed during their holds.
+#[test]
+fn a_checkpoint_of_a_run_on_ranks_is_one_process_world_and_goes_on_alike() {
+    use wetbounce::run::Steps;
+    let text = drops(0.3);
+    let stop_at = 0.039;
+    let scene = common::scene(&text);
+    let (duration, interval) = (scene.duration, scene.output_interval);
+    // One process, to the checkpoint's time and on to the end.
+    let mut whole = scene.simulation();
+    whole.advance_to(stop_at);
+    let at_checkpoint = whole.world.clone();
+    // The events so far belong to the run before the checkpoint.
+    assert!(!whole.record.events.is_empty());
+    whole.record.events.clear();
+    let rest = |mut sim: Simulation| {
+        let mut seen = Seen::default();
+        let plan = Plan { duration, output_interval: interval, from: None, checkpoints: None, steps: None };
+        run_plan(&mut sim, plan, &mut [&mut seen], &AtomicBool::new(false)).unwrap();
+        seen
+    };
+    let expected = rest(whole);
+    // Two thread-ranks to the same time; rank 0 gathers the world as for a checkpoint.
+    let gathered: Vec<Option<wetbounce::World>> = std::thread::scope(|s| {
+        let handles: Vec<_> = Threads::set(2)
+            .into_iter()
+            .map(|comm| {
+                let text = &text;
+                s.spawn(move || {
+                    let mut sim = common::scene(text).simulation();
+                    let mut split = Split::new(&comm, &sim).unwrap();
+                    while sim.world.time < stop_at {
+                        let target = (sim.world.time + sim.setup.dt).min(stop_at);
+                        split.advance(&mut sim, target);
+                    }
+                    split.before_checkpoint(&mut sim);
+                    assert!(split.report.moved > 0);
+                    (comm.rank() == 0).then_some(sim.world)
+                })
+            })
+            .collect();
+        handles.into_iter().map(|h| h.join().unwrap()).collect()
+    });
+    let world = gathered.into_iter().flatten().next().unwrap();
+    let (p, q) = (&world.particles, &at_checkpoint.particles);
+    assert_eq!((&p.id, &p.pos, &p.vel, &p.state), (&q.id, &q.pos, &q.vel, &q.state));
+    assert_eq!((&p.release_time, &p.release_vel, &p.wall), (&q.release_time, &q.release_vel, &q.wall));
+    let pairs = |w: &wetbounce::World| {
+        let mut v: Vec<String> = w.lasting.iter().map(|c| format!("{c:?}")).collect();
+        v.sort();
+        v
+    };
+    assert!(!world.lasting.is_empty(), "the checkpoint falls during holds");
+    assert_eq!(pairs(&world), pairs(&at_checkpoint));
+    assert_eq!(
+        (world.time, world.steps, world.next_id),
+        (at_checkpoint.time, at_checkpoint.steps, at_checkpoint.next_id)
+    );
+    // One process from the gathered world: the rest of the run never split.
+    let scene = common::scene(&text);
+    let setup = scene.simulation().setup;
+    let removed = vec![Vec::new(); setup.outlets.len()];
+    let resumed = Simulation::restore(setup, world, (Vec::new(), removed, None)).unwrap();
+    let went_on = rest(resumed);
+    assert_eq!(went_on.events, expected.events);
+    assert!(went_on.frames == expected.frames);
+}
