@@ -112,6 +112,17 @@ impl SplitReport {
     }
 }
 
+/// What the inflow of a step did.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Injected {
+    /// Nothing was due, or nothing could be placed.
+    None,
+    /// New particles joined their clusters on their ranks.
+    Joined,
+    /// New particles link clusters of different ranks: the clusters are found again.
+    Linking,
+}
+
 /// What a rank hands rank 0 after a step.
 #[derive(Debug, Clone, Default, serde::Serialize, serde::Deserialize)]
 struct News {
@@ -235,44 +246,97 @@ impl<'c> Split<'c> {
     }
 
     /// Stage 7's inflow for the whole run: every rank draws, against the particles near each
-    /// injector gathered from every rank; rank 0 keeps what was added. Returns true when
-    /// particles were added.
-    fn inject(&mut self, view: &mut Simulation, t1: f64) -> bool {
+    /// injector gathered from every rank (with the rank each came from), so every rank adds the
+    /// same particles. Each new particle joins the cluster of the particles within the cluster
+    /// skin of it, and goes to their rank (to the owner of its domain when it touches none);
+    /// when new particles link clusters of different ranks, the clusters must be found again.
+    fn inject(&mut self, view: &mut Simulation, t1: f64) -> Injected {
         let due = self.injectors.iter().zip(&self.injection).any(|(inj, s)| inj.due_by(t1) > s.due);
         if !due {
-            return false;
+            return Injected::None;
         }
         let p = &self.local.world.particles;
         let d_max = self.comm.max(p.diameter.iter().copied().fold(0.0, f64::max));
+        let skin = self.skin;
         let near: Vec<usize> = (0..p.len())
             .filter(|&i| {
                 self.injectors.iter().any(|inj| {
                     let (lo, hi) = inj.region_bounds();
-                    let margin = DVec3::splat(0.5 * inj.diameter.max_diameter() + d_max);
+                    // Within reach of a new particle: for its placing, and for its cluster.
+                    let margin = DVec3::splat(0.5 * (inj.diameter.max_diameter() + d_max) + skin);
                     p.pos[i].cmpge(lo - margin).all() && p.pos[i].cmple(hi + margin).all()
                 })
             })
             .collect();
         let parts: Vec<crate::particles::Particles> = all_gather(self.comm, &p.select(&near));
         let mut around = p.select(&[]);
-        for part in &parts {
+        let mut rank_of = Vec::new();
+        for (r, part) in parts.iter().enumerate() {
             around.append(part);
+            rank_of.extend(std::iter::repeat_n(r, part.len()));
         }
         let mut order: Vec<usize> = (0..around.len()).collect();
         order.sort_unstable_by_key(|&i| around.id[i]);
         let mut around = around.select(&order);
+        let rank_of: Vec<usize> = order.iter().map(|&i| rank_of[i]).collect();
         let before = around.len();
         let walls = &self.local.setup.walls;
-        let added =
-            inject::run(&self.injectors, &mut self.injection, walls, &mut around, &mut self.next_id, t1);
-        if added && self.comm.rank() == 0 {
-            let new: Vec<usize> = (before..around.len()).collect();
-            let fresh = around.select(&new);
+        if !inject::run(&self.injectors, &mut self.injection, walls, &mut around, &mut self.next_id, t1) {
+            return Injected::None;
+        }
+        let fresh = around.select(&(before..around.len()).collect::<Vec<_>>());
+        if self.comm.rank() == 0 {
             self.check_new_inside_field(view, &fresh, t1);
+        }
+        // The new particles' clusters: linked among themselves, and to the ranks they touch.
+        let links = clusters::close_pairs(&around.pos, &around.diameter, skin, around.len());
+        let mut sets = clusters::Sets::new(fresh.len());
+        let mut touched: Vec<Vec<usize>> = vec![Vec::new(); fresh.len()];
+        for &[a, b] in &links {
+            let (a, b) = (a as usize, b as usize);
+            match (a >= before, b >= before) {
+                (true, true) => sets.join(a - before, b - before),
+                (false, true) => touched[b - before].push(rank_of[a]),
+                (true, false) => touched[a - before].push(rank_of[b]),
+                (false, false) => {}
+            }
+        }
+        let mut ranks_of_set: Vec<Vec<usize>> = vec![Vec::new(); fresh.len()];
+        for (k, t) in touched.iter().enumerate() {
+            let root = sets.root(k);
+            ranks_of_set[root].extend(t);
+        }
+        let mut destination = vec![0; fresh.len()];
+        for k in 0..fresh.len() {
+            let root = sets.root(k);
+            let ranks = &mut ranks_of_set[root];
+            ranks.sort_unstable();
+            ranks.dedup();
+            destination[k] = match ranks[..] {
+                [] => self.domains.owner(fresh.pos[root]),
+                [r] => r,
+                _ => return self.place_all_on_root(fresh),
+            };
+        }
+        let mine: Vec<usize> = (0..fresh.len()).filter(|&k| destination[k] == self.comm.rank()).collect();
+        if !mine.is_empty() {
+            let joining = fresh.select(&mine);
+            self.reference.extend_from_slice(&joining.pos);
+            self.reference_ids.extend_from_slice(&joining.id);
+            self.local.world.particles.append(&joining);
+            self.local.world.neighbours.invalidate();
+        }
+        Injected::Joined
+    }
+
+    /// New particles that link clusters of several ranks: rank 0 takes them all, and the
+    /// clusters are found again.
+    fn place_all_on_root(&mut self, fresh: crate::particles::Particles) -> Injected {
+        if self.comm.rank() == 0 {
             self.local.world.particles.append(&fresh);
             self.local.world.neighbours.invalidate();
         }
-        added
+        Injected::Linking
     }
 
     /// One process checks the particles just injected against an `outside = "error"` field
@@ -350,16 +414,16 @@ impl Steps for Split<'_> {
         }
         self.last_move = moved;
         self.hand_on(view);
-        let injected = self.inject(view, t1);
         // The particles' references follow removals (lost, outlets): ids in order on both sides.
         let p = &self.local.world.particles;
-        if p.len() != self.reference.len() && !injected {
+        if p.len() != self.reference.len() {
             (self.reference, self.reference_ids) = realign(&p.id, (&self.reference_ids, &self.reference));
         }
+        let injected = self.inject(view, t1);
+        let p = &self.local.world.particles;
         let drift = p.pos.iter().zip(&self.reference).map(|(x, r)| (*x - *r).length()).fold(0.0, f64::max);
         let drift = self.comm.max(drift);
-        let injected = self.comm.any(injected);
-        if injected || drift + 4.0 * self.last_move >= 0.5 * self.skin {
+        if injected == Injected::Linking || drift + 4.0 * self.last_move >= 0.5 * self.skin {
             self.recluster(false);
         }
     }

@@ -323,3 +323,25 @@ fn a_checkpoint_of_a_run_on_ranks_is_one_process_world_and_goes_on_alike() {
     assert_eq!(went_on.events, expected.events);
     assert!(went_on.frames == expected.frames);
 }
+
+/// Injected particles join the cluster of their neighbours on its rank (or start one of their
+/// own), as in one process: the heap's pour and the column's drops, cut short.
+#[test]
+fn injected_particles_run_as_in_one_process() {
+    for (name, duration) in [("heap", "0.4"), ("column", "3.0")] {
+        let path = format!("{}/scenes/{name}.toml", env!("CARGO_MANIFEST_DIR"));
+        let text: Vec<String> =
+            std::fs::read_to_string(path)
+                .unwrap()
+                .lines()
+                .map(|l| {
+                    if l.starts_with("duration =") { format!("duration = {duration}") } else { l.to_string() }
+                })
+                .collect();
+        let (one, reports) = same_on_ranks(&text.join("\n"));
+        assert!(one.frames.last().unwrap().1.len() > 20, "{name}: particles were injected");
+        for r in &reports {
+            assert!(r.moved > 0 || r.last.counts.iter().filter(|&&c| c > 0).count() > 1, "{name}: {r:?}");
+        }
+    }
+}
