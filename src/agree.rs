@@ -25,9 +25,9 @@ pub trait Agree {
         b
     }
 
-    /// After the free flight (stage 2): the particles' ids and where the free flight took each
-    /// one by the end of the step, in index order.
-    fn flown(&self, _ids: &[u32], _start: &[DVec3], _end: &[DVec3]) {}
+    /// After the free flight (stage 2): the largest move of the step (m), and where each
+    /// particle starts and where the free flight took it by the end of the step, in index order.
+    fn flown(&self, _step_move: f64, _paths: (&[DVec3], &[DVec3])) {}
 }
 
 /// One process: every answer is its own.

@@ -230,7 +230,7 @@ fn run_scene(args: &RunArgs, comm: Option<&dyn Comm>) -> Result<(String, ExitCod
     // cleanly (after its first frame) rather than killing it.
     let signals = StopSignals::install().map_err(|e| format!("cannot install the signal handlers: {e}"))?;
     let root = comm.is_none_or(|c| c.rank() == 0);
-    drive(comm, prepare_run(args, root), &signals)
+    drive(comm, prepare_run(args, (root, comm.is_some())), &signals)
 }
 
 /// Steps a prepared run (a fresh or a resumed one) to its end: in this process, or split over
@@ -304,9 +304,9 @@ struct Prepared {
 
 /// Loads the scene and opens the outputs. `root`: this process writes the files (the only
 /// process, or rank 0 of a run on ranks).
-fn prepare_run(args: &RunArgs, root: bool) -> Result<Prepared, String> {
+fn prepare_run(args: &RunArgs, (root, on_ranks): (bool, bool)) -> Result<Prepared, String> {
     let path = args.scene.as_path();
-    set_threads(args.threads)?;
+    set_threads(args.threads, on_ranks)?;
     let formats = args.formats.clone().unwrap_or_else(Format::defaults);
     for f in &formats {
         f.available().map_err(|e| format!("--formats {}: {e}", f.name()))?;
@@ -424,14 +424,14 @@ struct ResumeArgs {
 fn resume_run(args: &ResumeArgs, comm: Option<&dyn Comm>) -> Result<(String, ExitCode), String> {
     let signals = StopSignals::install().map_err(|e| format!("cannot install the signal handlers: {e}"))?;
     let root = comm.is_none_or(|c| c.rank() == 0);
-    drive(comm, prepare_resume(args, root), &signals)
+    drive(comm, prepare_resume(args, (root, comm.is_some())), &signals)
 }
 
 /// Reads the checkpoint and, on the process that writes the files (`root`), carries the run's
 /// files and opens them where the checkpoint left them. Every rank of a run on ranks reads the
 /// checkpoint (the same path on every machine).
-fn prepare_resume(args: &ResumeArgs, root: bool) -> Result<Prepared, String> {
-    set_threads(args.threads)?;
+fn prepare_resume(args: &ResumeArgs, (root, on_ranks): (bool, bool)) -> Result<Prepared, String> {
+    set_threads(args.threads, on_ranks)?;
     let resumed =
         wetbounce::run::resume::resume(&args.checkpoint, args.scene.as_deref()).map_err(|e| e.to_string())?;
     let wetbounce::run::resume::Resumed { mut saved, scene, sim, .. } = resumed;
@@ -509,14 +509,19 @@ fn split_report(scene: &Scene, k: usize) -> Result<Vec<String>, String> {
 }
 
 /// `--threads N`: rayon's pool of N workers.
-fn set_threads(threads: Option<u16>) -> Result<(), String> {
-    if let Some(n) = threads {
-        rayon::ThreadPoolBuilder::new()
-            .num_threads(n as usize)
-            .build_global()
-            .map_err(|e| format!("--threads {n}: {e}"))?;
+///
+/// On ranks (`on_ranks`) the process's own thread is one of the workers: a rank steps its part
+/// on that thread — the one that talks to MPI — and a parallel loop called from it then runs in
+/// the pool instead of waking it from outside, which cost about 0.3 ms a step (10⁵ beads on 2
+/// ranks × 1 thread: 0.70 s against 0.46 s on 1 rank × 2 threads for 1000 steps).
+fn set_threads(threads: Option<u16>, on_ranks: bool) -> Result<(), String> {
+    if threads.is_none() && !on_ranks {
+        return Ok(());
     }
-    Ok(())
+    let n = threads.map_or(0, usize::from);
+    let pool = rayon::ThreadPoolBuilder::new().num_threads(n);
+    let pool = if on_ranks { pool.use_current_thread() } else { pool };
+    pool.build_global().map_err(|e| format!("--threads {n}: {e}"))
 }
 
 /// Says on standard error which outputs of an earlier run were removed (`output::stale`): left

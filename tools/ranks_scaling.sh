@@ -75,7 +75,8 @@ spacing = {s}
 PY
 }
 run() {
-  local case=$1 n=$2 r=$3 t=$4 file=$5 out="$tmp/out-$r-$t"
+  local case=$1 n=$2 r=$3 t=$4 file=$5
+  local out="$tmp/out-$r-$t"
   rm -rf "$out"
   if [ "$r" = 1 ]; then
     "$bin" run "$file" --out "$out" --formats csv --quiet --threads "$t" --allow-large-output >/dev/null

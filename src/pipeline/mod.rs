@@ -419,7 +419,7 @@ fn move_and_collide<M: Motion>(
     if flight.rotation() {
         particle_pass::spin(&flight, p, h, &mut scratch.next);
     }
-    agree.flown(&p.id, &p.pos, &scratch.next.pos);
+    agree.flown(pass.step_move, (&p.pos, &scratch.next.pos));
     laps.lap(&mut times.particle_pass);
     // 3. Broad phase (pairs).
     scratch.pair_candidates.clear();

@@ -66,6 +66,8 @@ pub struct Split<'c> {
     skin: f64,
     reference: Vec<DVec3>,
     reference_ids: Vec<u32>,
+    /// A bound on every particle's distance from its reference (m), over the ranks.
+    drift: f64,
     /// The largest free-flight move of the last step, over the ranks (m).
     last_move: f64,
     /// How many events, lost particles and removals of `local` are handed on already.
@@ -162,6 +164,7 @@ impl<'c> Split<'c> {
             skin: 0.0,
             reference: Vec::new(),
             reference_ids: Vec::new(),
+            drift: 0.0,
             last_move: 0.0,
             handed: (0, vec![0; removed.len()]),
             failure: None,
@@ -196,6 +199,7 @@ impl<'c> Split<'c> {
             recluster(self.comm, &mut self.local.world, bounds, (self.skin, REBALANCE_THRESHOLD, rebalance));
         self.reference = self.local.world.particles.pos.clone();
         self.reference_ids = self.local.world.particles.id.clone();
+        self.drift = 0.0;
         let total: usize = done.counts.iter().sum();
         let mean = total as f64 / done.counts.len() as f64;
         let worst = done.counts.iter().copied().max().unwrap_or(0) as f64;
@@ -357,9 +361,11 @@ impl<'c> Split<'c> {
 struct Agreeing<'a> {
     comm: &'a dyn Comm,
     reference: &'a [DVec3],
+    /// A bound on every particle's distance from its reference at the start of the step (m).
+    drift: f64,
     half_skin: f64,
     /// The step's largest free-flight move, and how far the farthest particle may have gone
-    /// from its reference (m), over the ranks.
+    /// from its reference by the end of the step (m), over the ranks.
     flown: Cell<(f64, f64)>,
 }
 
@@ -372,17 +378,19 @@ impl Agree for Agreeing<'_> {
         self.comm.any(b)
     }
 
-    fn flown(&self, _ids: &[u32], start: &[DVec3], end: &[DVec3]) {
-        let (mut moved, mut reach) = (0.0f64, 0.0f64);
-        for ((s, e), r) in start.iter().zip(end).zip(self.reference) {
-            let m = (*e - *s).length();
-            moved = moved.max(m);
-            // Its path stays within its move of its start (twice, for a curved one).
-            reach = reach.max((*s - *r).length() + 2.0 * m);
+    fn flown(&self, step_move: f64, (start, end): (&[DVec3], &[DVec3])) {
+        let moved = self.comm.max(step_move);
+        // A path stays within its move of its start (twice, for a curved one). The bound costs
+        // nothing; only when it is spent is each particle measured.
+        let mut reach = self.drift + 2.0 * moved;
+        if reach >= self.half_skin {
+            let mut farthest = 0.0f64;
+            for ((s, e), r) in start.iter().zip(end).zip(self.reference) {
+                farthest = farthest.max((*s - *r).length() + 2.0 * (*e - *s).length());
+            }
+            reach = self.comm.max(farthest);
         }
-        let both = all_gather(self.comm, &(moved, reach));
-        self.flown.set(both.iter().fold((0.0, 0.0), |a, b| (a.0.max(b.0), a.1.max(b.1))));
-        let _ = self.half_skin;
+        self.flown.set((moved, reach));
     }
 }
 
@@ -392,6 +400,7 @@ impl Steps for Split<'_> {
         let agree = Agreeing {
             comm: self.comm,
             reference: &self.reference,
+            drift: self.drift,
             half_skin: 0.5 * self.skin,
             flown: Cell::new((0.0, 0.0)),
         };
@@ -420,10 +429,16 @@ impl Steps for Split<'_> {
             (self.reference, self.reference_ids) = realign(&p.id, (&self.reference_ids, &self.reference));
         }
         let injected = self.inject(view, t1);
-        let p = &self.local.world.particles;
-        let drift = p.pos.iter().zip(&self.reference).map(|(x, r)| (*x - *r).length()).fold(0.0, f64::max);
-        let drift = self.comm.max(drift);
-        if injected == Injected::Linking || drift + 4.0 * self.last_move >= 0.5 * self.skin {
+        // The drift bound grows by the step's move (twice: contacts may turn a path); when the
+        // next step could spend it, it is measured, and the clusters found again if need be.
+        self.drift += 2.0 * moved;
+        if self.drift + 4.0 * self.last_move >= 0.5 * self.skin {
+            let p = &self.local.world.particles;
+            let drift =
+                p.pos.iter().zip(&self.reference).map(|(x, r)| (*x - *r).length()).fold(0.0, f64::max);
+            self.drift = self.comm.max(drift);
+        }
+        if injected == Injected::Linking || self.drift + 4.0 * self.last_move >= 0.5 * self.skin {
             self.recluster(false);
         }
     }
