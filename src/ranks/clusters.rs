@@ -252,10 +252,10 @@ pub fn recluster(
     let mut sent = vec![false; n];
     for (r, b) in boxes.iter().enumerate() {
         let Some((lo, hi)) = b.filter(|_| r != me) else { continue };
-        for i in 0..n {
+        for (i, sent) in sent.iter_mut().enumerate() {
             if p.pos[i].cmpge(lo - reach).all() && p.pos[i].cmple(hi + reach).all() {
                 outgoing[r].push(Ghost { id: p.id[i], pos: p.pos[i], diameter: p.diameter[i] });
-                sent[i] = true;
+                *sent = true;
             }
         }
     }

@@ -45,6 +45,11 @@ use comm::{Comm, all_gather, exchange};
 use glam::DVec3;
 use std::cell::Cell;
 
+/// The cluster skin holds at least this many of the last step's largest moves: the clusters
+/// are then found again every `(MOVES_IN_SKIN/2 − 4)/2` steps at most (the drift bound grows by
+/// twice the move a step, and four moves are kept for the next step).
+pub const MOVES_IN_SKIN: f64 = 16.0;
+
 /// Imbalance (largest rank's count over the mean, less one) past which the domains are cut
 /// again at a re-clustering.
 pub const REBALANCE_THRESHOLD: f64 = 0.1;
@@ -192,8 +197,8 @@ impl<'c> Split<'c> {
         let injected = self.injectors.iter().map(|i| i.diameter.max_diameter()).fold(0.0, f64::max);
         let d_max =
             self.comm.max(self.local.world.particles.diameter.iter().copied().fold(injected, f64::max));
-        // Twice the neighbour list's skin, and room for moves many times the last step's.
-        self.skin = (2.0 * setup.skin_fraction * d_max).max(16.0 * self.last_move);
+        // Twice the neighbour list's skin, and room for many moves like the last step's.
+        self.skin = (2.0 * setup.skin_fraction * d_max).max(MOVES_IN_SKIN * self.last_move);
         let bounds = (&mut self.domains, &mut self.balance);
         let done =
             recluster(self.comm, &mut self.local.world, bounds, (self.skin, REBALANCE_THRESHOLD, rebalance));
@@ -310,17 +315,17 @@ impl<'c> Split<'c> {
             let root = sets.root(k);
             ranks_of_set[root].extend(t);
         }
-        let mut destination = vec![0; fresh.len()];
+        let mut destination = Vec::with_capacity(fresh.len());
         for k in 0..fresh.len() {
             let root = sets.root(k);
             let ranks = &mut ranks_of_set[root];
             ranks.sort_unstable();
             ranks.dedup();
-            destination[k] = match ranks[..] {
+            destination.push(match ranks[..] {
                 [] => self.domains.owner(fresh.pos[root]),
                 [r] => r,
                 _ => return self.place_all_on_root(fresh),
-            };
+            });
         }
         let mine: Vec<usize> = (0..fresh.len()).filter(|&k| destination[k] == self.comm.rank()).collect();
         if !mine.is_empty() {

@@ -15,10 +15,13 @@ use wetbounce::ranks::{Split, SplitReport};
 use wetbounce::run::{Plan, run_plan};
 use wetbounce::{ContactEvent, Outcome, Simulation};
 
-/// Every frame's particles (id, position, velocity, state code) and every event, as bits.
+/// A particle in a frame: its id, the bits of its position and velocity, its state's code.
+type Row = (u32, [u64; 6], u8);
+
+/// Every frame's particles (time's bits, rows) and every event, as bits.
 #[derive(Default, PartialEq, Debug)]
 struct Seen {
-    frames: Vec<(u64, Vec<(u32, [u64; 6], u8)>)>,
+    frames: Vec<(u64, Vec<Row>)>,
     events: Vec<String>,
 }
 
