@@ -149,36 +149,14 @@ enum Command {
 fn main() -> ExitCode {
     let cli = Cli::parse();
     let result = match cli.command {
-        Command::Run(args) => {
-            // Under `mpirun -np K` (K > 1) the run is split over the ranks (docs/distributed.md);
-            // started alone, an MPI build is one process like any other.
-            #[cfg(feature = "mpi")]
-            let mpi = wetbounce::ranks::mpi::Mpi::init();
-            #[cfg(feature = "mpi")]
-            let comm = mpi.as_ref().map(|m| m as &dyn Comm).filter(|c| c.size() > 1);
-            #[cfg(not(feature = "mpi"))]
-            let comm: Option<&dyn Comm> = None;
-            if let Some(quiet) = launched_without_mpi() {
-                return quiet;
-            }
-            run_scene(&args, comm)
-        }
+        Command::Run(args) => on_ranks(|comm| run_scene(&args, comm)),
         Command::Check { scene, allow_long_run, allow_large_memory, ranks } => {
             check_scene(&scene, LoadOptions { allow_long_run, allow_large_memory }, ranks.map(usize::from))
                 .map(|text| (text, ExitCode::SUCCESS))
         }
         Command::Resume { checkpoint, out, scene, formats, threads, quiet, checkpoints } => {
             let args = ResumeArgs { checkpoint, out, scene, formats, threads, quiet, checkpoints };
-            #[cfg(feature = "mpi")]
-            let mpi = wetbounce::ranks::mpi::Mpi::init();
-            #[cfg(feature = "mpi")]
-            let comm = mpi.as_ref().map(|m| m as &dyn Comm).filter(|c| c.size() > 1);
-            #[cfg(not(feature = "mpi"))]
-            let comm: Option<&dyn Comm> = None;
-            if let Some(quiet) = launched_without_mpi() {
-                return quiet;
-            }
-            resume_run(&args, comm)
+            on_ranks(|comm| resume_run(&args, comm))
         }
         Command::Recover { input, output } => {
             recover_mcap(&input, output.as_deref()).map(|text| (text, ExitCode::SUCCESS))
@@ -201,6 +179,23 @@ fn main() -> ExitCode {
             ExitCode::FAILURE
         }
     }
+}
+
+/// Runs `go` with the ranks of the run: under `mpirun -np K` (K > 1) the run is split over them
+/// (docs/distributed.md); started alone, an MPI build is one process like any other (`None`).
+fn on_ranks(
+    go: impl FnOnce(Option<&dyn Comm>) -> Result<(String, ExitCode), String>,
+) -> Result<(String, ExitCode), String> {
+    if let Some(code) = launched_without_mpi() {
+        return Ok((String::new(), code));
+    }
+    #[cfg(feature = "mpi")]
+    let mpi = wetbounce::ranks::mpi::Mpi::init();
+    #[cfg(feature = "mpi")]
+    let comm = mpi.as_ref().map(|m| m as &dyn Comm).filter(|c| c.size() > 1);
+    #[cfg(not(feature = "mpi"))]
+    let comm: Option<&dyn Comm> = None;
+    go(comm)
 }
 
 /// A build without the `mpi` feature started by `mpirun -np K` (K > 1) would run K copies of the

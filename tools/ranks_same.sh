@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Runs shipped scenes on 1 rank and on K ranks (`mpirun -np K`, oversubscribed) and checks that
-# every output file is byte-identical (summary.json without its wall time, which differs between
-# any two runs): the promise of docs/distributed.md.
+# every output file — MCAP, CSV, the ParaView frames — is byte-identical (summary.json without
+# its wall time, which differs between any two runs): the promise of docs/distributed.md.
 #
 #     bash tools/ranks_same.sh 2 3 -- scenes/column.toml scenes/heap.toml
 #     bash tools/ranks_same.sh 2                       # every shipped scene on 2 ranks
@@ -27,6 +27,8 @@ failed=0
 same() {
   if [ "$(basename "$1")" = summary.json ]; then
     cmp -s <(grep -v '"wall_time_s"' "$1") <(grep -v '"wall_time_s"' "$2")
+  elif [ -d "$1" ]; then
+    diff -rq "$1" "$2" >/dev/null
   else
     cmp -s "$1" "$2"
   fi
@@ -34,12 +36,12 @@ same() {
 for scene in "${scenes[@]}"; do
   stem=$(basename "$scene" .toml)
   start=$(date +%s%N)
-  "$bin" run "$scene" --out "$out/$stem-1" --formats mcap,csv --quiet >/dev/null
+  "$bin" run "$scene" --out "$out/$stem-1" --formats mcap,csv,vtk --quiet >/dev/null
   one=$(awk -v a="$start" -v b="$(date +%s%N)" 'BEGIN { print (b - a) / 1e9 }')
   for k in "${counts[@]}"; do
     start=$(date +%s%N)
     if ! mpirun "${root[@]}" --oversubscribe -np "$k" "$bin" run "$scene" --out "$out/$stem-$k" \
-        --formats mcap,csv --quiet >"$out/$stem-$k.txt" 2>&1; then
+        --formats mcap,csv,vtk --quiet >"$out/$stem-$k.txt" 2>&1; then
       echo "FAILED  $stem on $k ranks:"; tail -5 "$out/$stem-$k.txt"; failed=1; continue
     fi
     many=$(awk -v a="$start" -v b="$(date +%s%N)" 'BEGIN { print (b - a) / 1e9 }')
