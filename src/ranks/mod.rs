@@ -148,12 +148,21 @@ impl<'c> Split<'c> {
         let injectors = std::mem::take(&mut setup.injectors);
         let mut world = sim.world.clone();
         let injection = std::mem::take(&mut world.injection);
-        if comm.rank() != 0 {
-            // Rank 0 starts with every particle; the first clustering shares them out.
-            world.particles = world.particles.select(&[]);
-            world.lasting.clear();
-            world.wall_contacts.clear();
+        // Every rank holds the whole world here: each keeps at once the particles of its domain
+        // in a bisection of them all (a lasting contact's particles with its lowest one's), so
+        // that the first clustering is shared out too.
+        let p = &world.particles;
+        let points: Vec<(DVec3, f64)> = p.pos.iter().map(|x| (*x, 1.0)).collect();
+        let domains = Domains::bisect(&points, comm.size());
+        let mut held = clusters::Sets::new(p.len());
+        for c in &world.lasting {
+            held.join(c.a as usize, c.b as usize);
         }
+        let keep: Vec<bool> =
+            (0..p.len()).map(|i| domains.owner(p.pos[held.root(i)]) == comm.rank()).collect();
+        let kept_ids: Vec<u32> = (0..p.len()).filter(|&i| keep[i]).map(|i| p.id[i]).collect();
+        crate::contact::lasting::remove_particles(&mut world.particles, &keep, &mut world.lasting);
+        world.wall_contacts.retain(|w| kept_ids.binary_search(&w.id).is_ok());
         world.neighbours.invalidate();
         let removed = vec![Vec::new(); setup.outlets.len()];
         let local = Simulation::restore(setup, world, (Vec::new(), removed.clone(), None))?;
@@ -164,7 +173,7 @@ impl<'c> Split<'c> {
             injectors,
             injection,
             next_id,
-            domains: Domains::one(),
+            domains,
             balance: Balance::default(),
             skin: 0.0,
             reference: Vec::new(),
@@ -175,7 +184,7 @@ impl<'c> Split<'c> {
             failure: None,
             report: SplitReport { ranks: comm.size(), ..SplitReport::default() },
         };
-        split.recluster(true);
+        split.recluster(false);
         Ok(split)
     }
 

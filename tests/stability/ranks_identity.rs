@@ -133,24 +133,26 @@ restitution_max = 0.97
 
 #[test]
 fn two_beads_from_different_ranks_collide_as_in_one_process() {
-    // Ten pairs along x, far apart at the start (the cut falls between the halves), each pair
-    // meeting head-on, with no force acting.
+    // Ten pairs 120 mm apart along x (the longest side: the first split cuts between the
+    // halves), each pair meeting head-on at 0.6 m/s, with no force acting.
     let mut particles = Vec::new();
     for k in 0..10 {
-        let y = k as f64 * 0.01;
-        particles.push((DVec3::new(-0.02, y, 0.0), DVec3::new(0.3, 0.0, 0.0)));
-        particles.push((DVec3::new(0.02, y, 0.0), DVec3::new(-0.3, 0.0, 0.0)));
+        let y = k as f64 * 0.005;
+        particles.push((DVec3::new(-0.06, y, 0.0), DVec3::new(0.3, 0.0, 0.0)));
+        particles.push((DVec3::new(0.06, y, 0.0), DVec3::new(-0.3, 0.0, 0.0)));
     }
-    let (one, reports) = same_on_ranks(&beads("", "", &particles, 0.15));
+    let (one, reports) = same_on_ranks(&beads("", "", &particles, 0.3));
     assert!(one.events.iter().any(|e| e.contains("Particle")), "the beads must meet");
     for r in &reports {
         assert!(r.moved > 0, "a bead changed rank to meet its partner: {r:?}");
     }
 }
 
-/// Two toluene drops in water meeting head-on and held together for their contact time, with a
-/// sideways velocity that carries the held pair across the domains' cut.
-fn drops(sideways: f64) -> String {
+/// Eight pairs of toluene drops in water, each pair's drops starting 60 mm apart along x (the
+/// longest side: the first split cuts between them, so partners start on different ranks),
+/// meeting head-on at 1 m/s and held together for their contact time; `drift` (m/s) along x
+/// carries a held pair across that cut during its hold.
+fn drops(drift: f64) -> String {
     let mut text = String::from(
         r#"
 [simulation]
@@ -170,12 +172,11 @@ surface_tension = 0.026
 restitution_max = 0.91
 "#,
     );
-    // Pairs spread along y; each meets at x = 0 while drifting along y.
     for k in 0..8 {
-        let y = -0.04 + 0.01 * k as f64;
-        for (x, vx) in [(-0.005, 0.1), (0.005, -0.1)] {
+        let y = 0.005 * k as f64;
+        for (x, vx) in [(-0.03, 0.5 + drift), (0.03, -0.5 + drift)] {
             text += &format!(
-                "[[particles]]\nkind = \"toluene\"\ndiameter = 2.5e-3\nposition = [{x:?}, {y:?}, 0.0]\nvelocity = [{vx:?}, {sideways:?}, 0.0]\n"
+                "[[particles]]\nkind = \"toluene\"\ndiameter = 2.5e-3\nposition = [{x:?}, {y:?}, 0.0]\nvelocity = [{vx:?}, 0.0, 0.0]\n"
             );
         }
     }
@@ -184,15 +185,18 @@ restitution_max = 0.91
 
 #[test]
 fn drops_held_together_across_ranks_are_held_as_in_one_process() {
-    let (one, _) = same_on_ranks(&drops(0.0));
+    let (one, reports) = same_on_ranks(&drops(0.0));
     assert!(one.events.iter().any(|e| e.contains(&format!("{:?}", Outcome::Held))), "the drops must be held");
+    for r in &reports {
+        assert!(r.moved > 0, "partners met on one rank: {r:?}");
+    }
 }
 
 #[test]
 fn a_held_pair_that_changes_rank_during_its_hold_is_released_as_in_one_process() {
-    // Drifting fast along y, the pairs cross the cuts between the ranks' domains (drawn along
-    // y, the longest side) while held; a re-clustering during the hold moves them.
-    let (one, reports) = same_on_ranks(&drops(0.3));
+    // Drifting along x at 0.1 m/s, a held pair's lowest drop crosses the first cut (x = 0)
+    // during the 22 ms hold; a re-clustering then moves the pair to the other rank.
+    let (one, reports) = same_on_ranks(&drops(0.1));
     assert!(one.events.iter().any(|e| e.contains(&format!("{:?}", Outcome::Held))), "the drops must be held");
     for r in &reports {
         assert!(r.moved > 0 && r.reclusterings > 2, "{r:?}");
@@ -263,8 +267,9 @@ fn the_benchmark_scenes_cut_short_run_as_in_one_process() {
 #[test]
 fn a_checkpoint_of_a_run_on_ranks_is_one_process_world_and_goes_on_alike() {
     use wetbounce::run::Steps;
-    let text = drops(0.3);
-    let stop_at = 0.039;
+    let text = drops(0.1);
+    // The pairs meet at 0.0575 s and are held for 22 ms.
+    let stop_at = 0.065;
     let scene = common::scene(&text);
     let (duration, interval) = (scene.duration, scene.output_interval);
     // One process, to the checkpoint's time and on to the end.
