@@ -99,6 +99,21 @@ fn same_on_ranks(text: &str) -> (Seen, Vec<SplitReport>) {
     (one, reports)
 }
 
+/// The shipped scene `name` with its duration (s) and, if given, its output interval replaced.
+fn shipped_cut(name: &str, duration: &str, output_interval: Option<&str>) -> String {
+    let path = format!("{}/scenes/{name}.toml", env!("CARGO_MANIFEST_DIR"));
+    let text = std::fs::read_to_string(path).unwrap();
+    let lines: Vec<String> = text
+        .lines()
+        .map(|l| match output_interval {
+            _ if l.starts_with("duration =") => format!("duration = {duration}"),
+            Some(i) if l.starts_with("output_interval =") => format!("output_interval = {i}"),
+            _ => l.to_string(),
+        })
+        .collect();
+    lines.join("\n")
+}
+
 /// Glass beads in water, no walls but what `walls` says, the beads given as `[[particles]]`.
 fn beads(effects: &str, walls: &str, particles: &[(DVec3, DVec3)], duration: f64) -> String {
     let mut text = format!(
@@ -242,21 +257,8 @@ fn the_benchmark_scenes_cut_short_run_as_in_one_process() {
         "bench_paper_history",
         "bench_paper_lubrication",
     ] {
-        let path = format!("{}/scenes/{name}.toml", env!("CARGO_MANIFEST_DIR"));
-        let text = std::fs::read_to_string(path).unwrap();
-        let text: Vec<String> = text
-            .lines()
-            .map(|l| {
-                if l.starts_with("duration =") {
-                    "duration = 1.0524e-3".to_string()
-                } else if l.starts_with("output_interval =") {
-                    "output_interval = 2.631e-4".to_string()
-                } else {
-                    l.to_string()
-                }
-            })
-            .collect();
-        let (one, _) = same_on_ranks(&text.join("\n"));
+        let text = shipped_cut(name, "1.0524e-3", Some("2.631e-4"));
+        let (one, _) = same_on_ranks(&text);
         assert_eq!(one.frames.len(), 5, "{name}");
     }
 }
@@ -337,16 +339,7 @@ fn a_checkpoint_of_a_run_on_ranks_is_one_process_world_and_goes_on_alike() {
 #[test]
 fn injected_particles_run_as_in_one_process() {
     for (name, duration) in [("heap", "0.4"), ("column", "3.0")] {
-        let path = format!("{}/scenes/{name}.toml", env!("CARGO_MANIFEST_DIR"));
-        let text: Vec<String> =
-            std::fs::read_to_string(path)
-                .unwrap()
-                .lines()
-                .map(|l| {
-                    if l.starts_with("duration =") { format!("duration = {duration}") } else { l.to_string() }
-                })
-                .collect();
-        let (one, reports) = same_on_ranks(&text.join("\n"));
+        let (one, reports) = same_on_ranks(&shipped_cut(name, duration, None));
         assert!(one.frames.last().unwrap().1.len() > 20, "{name}: particles were injected");
         for r in &reports {
             assert!(r.moved > 0 || r.last.counts.iter().filter(|&&c| c > 0).count() > 1, "{name}: {r:?}");
