@@ -28,10 +28,10 @@
 pub mod bisection;
 pub mod clusters;
 pub mod comm;
+mod drift;
 #[cfg(feature = "mpi")]
 pub mod mpi;
 
-use crate::agree::Agree;
 use crate::contact::ContactEvent;
 use crate::fluid::field::{Outside, OutsideField};
 use crate::particles::NO_TET;
@@ -42,6 +42,7 @@ use crate::run::Steps;
 use bisection::Domains;
 use clusters::{Balance, Clustering, Parcel, recluster};
 use comm::{Comm, all_gather, exchange};
+use drift::{Agreeing, realign};
 use glam::DVec3;
 use std::cell::Cell;
 
@@ -371,43 +372,6 @@ impl<'c> Split<'c> {
     }
 }
 
-/// What a step asks the ranks, and what it tells them of its moves.
-struct Agreeing<'a> {
-    comm: &'a dyn Comm,
-    reference: &'a [DVec3],
-    /// A bound on every particle's distance from its reference at the start of the step (m).
-    drift: f64,
-    half_skin: f64,
-    /// The step's largest free-flight move, and how far the farthest particle may have gone
-    /// from its reference by the end of the step (m), over the ranks.
-    flown: Cell<(f64, f64)>,
-}
-
-impl Agree for Agreeing<'_> {
-    fn max(&self, x: f64) -> f64 {
-        self.comm.max(x)
-    }
-
-    fn any(&self, b: bool) -> bool {
-        self.comm.any(b)
-    }
-
-    fn flown(&self, step_move: f64, (start, end): (&[DVec3], &[DVec3])) {
-        let moved = self.comm.max(step_move);
-        // A path stays within its move of its start (twice, for a curved one). The bound costs
-        // nothing; only when it is spent is each particle measured.
-        let mut reach = self.drift + 2.0 * moved;
-        if reach >= self.half_skin {
-            let mut farthest = 0.0f64;
-            for ((s, e), r) in start.iter().zip(end).zip(self.reference) {
-                farthest = farthest.max((*s - *r).length() + 2.0 * (*e - *s).length());
-            }
-            reach = self.comm.max(farthest);
-        }
-        self.flown.set((moved, reach));
-    }
-}
-
 impl Steps for Split<'_> {
     fn advance(&mut self, view: &mut Simulation, target: f64) {
         let steps = self.local.world.steps;
@@ -506,18 +470,4 @@ impl Split<'_> {
         view.world.injection.clone_from(&self.injection);
         view.world.next_id = self.next_id;
     }
-}
-
-/// The references (`ids_then`, `reference`) of the particles `ids` still here: removals only,
-/// every list in id order.
-fn realign(ids: &[u32], (ids_then, reference): (&[u32], &[DVec3])) -> (Vec<DVec3>, Vec<u32>) {
-    let mut kept = Vec::with_capacity(ids.len());
-    let mut k = 0;
-    for &id in ids {
-        while ids_then[k] != id {
-            k += 1;
-        }
-        kept.push(reference[k]);
-    }
-    (kept, ids.to_vec())
 }
