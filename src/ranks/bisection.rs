@@ -71,7 +71,13 @@ fn cut(
     } else {
         2
     };
-    order.sort_by(|&a, &b| points[a].0[axis].total_cmp(&points[b].0[axis]).then(a.cmp(&b)));
+    // By coordinate, then index (so the order is one on every rank): keys sorted in place
+    // rather than comparisons through `points` (a million particles at the start).
+    let mut keyed: Vec<(i64, usize)> = order.iter().map(|&i| (total_key(points[i].0[axis]), i)).collect();
+    keyed.sort_unstable();
+    for (o, (_, i)) in order.iter_mut().zip(keyed) {
+        *o = i;
+    }
     let below_ranks = count / 2;
     let total: f64 = order.iter().map(|&i| points[i].1).sum();
     let share = total * below_ranks as f64 / count as f64;
@@ -100,6 +106,12 @@ fn cut(
     let above = cut(points, upper, (first + below_ranks, count - below_ranks), nodes);
     nodes[me as usize] = Node::Cut { axis: axis as u8, at, below, above };
     me
+}
+
+/// An integer that orders as [`f64::total_cmp`] orders `x`.
+fn total_key(x: f64) -> i64 {
+    let bits = x.to_bits() as i64;
+    bits ^ (((bits >> 63) as u64) >> 1) as i64
 }
 
 #[cfg(test)]
@@ -133,6 +145,16 @@ mod tests {
             counts[d.owner(*x)] += 1;
         }
         counts
+    }
+
+    #[test]
+    fn the_sort_key_orders_as_total_cmp() {
+        let xs = [-f64::INFINITY, -2.5, -1e-300, -0.0, 0.0, 1e-300, 3.0, f64::INFINITY];
+        for a in xs {
+            for b in xs {
+                assert_eq!(total_key(a).cmp(&total_key(b)), a.total_cmp(&b), "{a} {b}");
+            }
+        }
     }
 
     #[test]

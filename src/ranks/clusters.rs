@@ -16,44 +16,17 @@
 
 use super::bisection::Domains;
 use super::comm::{Comm, all_gather, exchange};
-use crate::contact::{LastingContact, WallContact};
+use crate::contact::detect::neighbours::pairs_within;
+use crate::contact::{FastMap, LastingContact, WallContact};
 use crate::particles::Particles;
 use crate::pipeline::World;
-use glam::{DVec3, IVec3};
-use std::collections::HashMap;
+use glam::DVec3;
 
 /// Pairs `[i, j]`, `i < j`, of `x` whose surfaces are closer than `skin`, none between two
 /// points at or above `ghosts` (the ghosts link only to this rank's particles).
 pub fn close_pairs(x: &[DVec3], diameter: &[f64], skin: f64, ghosts: usize) -> Vec<[u32; 2]> {
-    let d_max = diameter.iter().copied().fold(0.0, f64::max);
-    let cell = (d_max + skin).max(f64::MIN_POSITIVE);
-    let key = |p: DVec3| (p / cell).floor().as_ivec3();
-    let mut grid: HashMap<IVec3, Vec<u32>> = HashMap::new();
-    for (i, p) in x.iter().enumerate() {
-        grid.entry(key(*p)).or_default().push(i as u32);
-    }
-    let mut pairs = Vec::new();
-    for (i, p) in x.iter().enumerate() {
-        let c = key(*p);
-        for dz in -1..=1 {
-            for dy in -1..=1 {
-                for dx in -1..=1 {
-                    let Some(cell) = grid.get(&(c + IVec3::new(dx, dy, dz))) else { continue };
-                    for &j in cell {
-                        let j = j as usize;
-                        if j <= i || (i >= ghosts && j >= ghosts) {
-                            continue;
-                        }
-                        let reach = 0.5 * (diameter[i] + diameter[j]) + skin;
-                        if (x[j] - *p).length_squared() < reach * reach {
-                            pairs.push([i as u32, j as u32]);
-                        }
-                    }
-                }
-            }
-        }
-    }
-    pairs.sort_unstable();
+    let mut pairs = pairs_within(x, diameter, skin);
+    pairs.retain(|&[i, _]| (i as usize) < ghosts);
     pairs
 }
 
@@ -97,7 +70,7 @@ impl Sets {
 /// The same, on labels that are particle ids (sparse): the root is the lowest id.
 #[derive(Debug, Default)]
 struct IdSets {
-    parent: HashMap<u32, u32>,
+    parent: FastMap<u32, u32>,
 }
 
 impl IdSets {
@@ -179,7 +152,9 @@ impl Parcel {
     /// (sorted by particle and wall, their order in one process).
     pub fn merge(parts: Vec<Parcel>) -> Parcel {
         let mut merged = Parcel::default();
+        let mut starts = Vec::with_capacity(parts.len());
         for (k, part) in parts.into_iter().enumerate() {
+            starts.push(merged.particles.len());
             if k == 0 {
                 merged.particles = part.particles;
             } else {
@@ -188,8 +163,7 @@ impl Parcel {
             merged.lasting.extend(part.lasting);
             merged.walls.extend(part.walls);
         }
-        let mut order: Vec<usize> = (0..merged.particles.len()).collect();
-        order.sort_unstable_by_key(|&i| merged.particles.id[i]);
+        let order = merged_order(&merged.particles.id, &starts);
         merged.particles = merged.particles.select(&order);
         merged.walls.sort_unstable_by_key(|c| (c.id, c.wall));
         merged
@@ -202,6 +176,32 @@ impl Parcel {
             |id: u32| ids.binary_search(&id).expect("a lasting contact's particles came with it") as u32;
         self.lasting.iter().map(|&([a, b], c)| LastingContact { a: index(a), b: index(b), ..c }).collect()
     }
+}
+
+/// The rows of `ids` in id order, where `ids` is runs each in id order starting at `starts`:
+/// a merge of the runs (a frame gathers a million particles; a sort of them cost more than the
+/// merge). A run out of order, which no caller makes, is sorted all the same.
+fn merged_order(ids: &[u32], starts: &[usize]) -> Vec<usize> {
+    use std::cmp::Reverse;
+    use std::collections::BinaryHeap;
+    let ends: Vec<usize> = starts.iter().skip(1).copied().chain([ids.len()]).collect();
+    if starts.iter().zip(&ends).any(|(&a, &b)| !ids[a..b].is_sorted()) {
+        let mut order: Vec<usize> = (0..ids.len()).collect();
+        order.sort_unstable_by_key(|&i| ids[i]);
+        return order;
+    }
+    let mut next: Vec<usize> = starts.to_vec();
+    let mut heads: BinaryHeap<Reverse<(u32, usize)>> =
+        (0..starts.len()).filter(|&r| next[r] < ends[r]).map(|r| Reverse((ids[next[r]], r))).collect();
+    let mut order = Vec::with_capacity(ids.len());
+    while let Some(Reverse((_, r))) = heads.pop() {
+        order.push(next[r]);
+        next[r] += 1;
+        if next[r] < ends[r] {
+            heads.push(Reverse((ids[next[r]], r)));
+        }
+    }
+    order
 }
 
 /// The imbalance the last cut of the domains left (largest count over the mean, less one).
@@ -287,8 +287,8 @@ pub fn recluster(
     keys.dedup();
     border.keys = keys.iter().map(|&c| (c, p.pos[index_of(c)])).collect();
     let borders: Vec<Border> = all_gather(comm, &border);
-    let mut cluster_of_ghost: HashMap<u32, u32> = HashMap::new();
-    let mut key_of: HashMap<u32, DVec3> = HashMap::new();
+    let mut cluster_of_ghost: FastMap<u32, u32> = FastMap::default();
+    let mut key_of: FastMap<u32, DVec3> = FastMap::default();
     for b in &borders {
         cluster_of_ghost.extend(b.ghosts.iter().copied());
         key_of.extend(b.keys.iter().copied());
@@ -304,7 +304,7 @@ pub fn recluster(
     let key = |c: u32| key_of.get(&c).copied().unwrap_or_else(|| p.pos[index_of(c)]);
     // 5. Owners; the domains cut again when the counts are uneven (or asked).
     let mut parts: Vec<Part> = Vec::new();
-    let mut count_of: HashMap<u32, u32> = HashMap::new();
+    let mut count_of: FastMap<u32, u32> = FastMap::default();
     for &c in &whole {
         *count_of.entry(c).or_default() += 1;
     }
@@ -337,7 +337,7 @@ pub fn recluster(
         .filter(|part| joined.parent.contains_key(&part.cluster))
         .map(|part| (part.cluster, part.count))
         .collect();
-    let mut across_sums: HashMap<u32, usize> = HashMap::new();
+    let mut across_sums: FastMap<u32, usize> = FastMap::default();
     for (c, k) in all_gather(comm, &across).into_iter().flatten() {
         *across_sums.entry(c).or_default() += k as usize;
     }
@@ -361,7 +361,7 @@ pub fn recluster(
     let rebalanced = size > 1 && (rebalance || imbalance > floor);
     if rebalanced {
         let all_parts: Vec<Vec<Part>> = all_gather(comm, &parts);
-        let mut whole_clusters: HashMap<u32, (u32, Option<DVec3>)> = HashMap::new();
+        let mut whole_clusters: FastMap<u32, (u32, Option<DVec3>)> = FastMap::default();
         for part in all_parts.iter().flatten() {
             let e = whole_clusters.entry(part.cluster).or_insert((0, None));
             e.0 += part.count;

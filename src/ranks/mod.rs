@@ -41,7 +41,7 @@ use crate::pipeline::{LostParticle, Simulation};
 use crate::run::Steps;
 use bisection::Domains;
 use clusters::{Balance, Clustering, Parcel, recluster};
-use comm::{Comm, all_gather, exchange};
+use comm::{Comm, all_gather, decode, encode, exchange};
 use drift::{Agreeing, realign};
 use glam::DVec3;
 use std::cell::Cell;
@@ -444,17 +444,25 @@ impl Split<'_> {
     /// checkpoint saves (its neighbour list left to be built again: it changes no result).
     fn gather(&mut self, view: &mut Simulation, whole: bool) {
         let world = &self.local.world;
-        let mine = if whole {
-            Parcel::of(world)
-        } else {
-            Parcel { particles: world.particles.clone(), ..Parcel::default() }
+        let mine = || {
+            if whole {
+                Parcel::of(world)
+            } else {
+                Parcel { particles: world.particles.clone(), ..Parcel::default() }
+            }
         };
-        let mut outgoing = vec![Parcel::default(); self.comm.size()];
-        outgoing[0] = mine;
-        let parts: Vec<Parcel> = exchange(self.comm, &outgoing);
-        if self.comm.rank() != 0 {
+        // Rank 0 keeps its own part as it is (encoding it to itself cost as much as the rest).
+        let me = self.comm.rank();
+        let mut outgoing = vec![Vec::new(); self.comm.size()];
+        if me != 0 {
+            outgoing[0] = encode(&mine());
+        }
+        let received = self.comm.exchange(outgoing);
+        if me != 0 {
             return;
         }
+        let parts: Vec<Parcel> =
+            std::iter::once(mine()).chain(received.iter().skip(1).map(|b| decode(b))).collect();
         let merged = Parcel::merge(parts.into_iter().filter(|p| !p.particles.is_empty()).collect());
         if whole {
             view.world.lasting = merged.renumbered();

@@ -41,6 +41,12 @@ fn displacements(counts: &[Count]) -> (Vec<Count>, usize) {
     (displs, at as usize)
 }
 
+/// A buffer of `len` bytes, never of no memory: an empty `Vec`'s pointer is 1, which Open MPI reads
+/// as `MPI_IN_PLACE` ("MPI_ERR_ARG" from `MPI_Alltoallv` when a rank receives nothing).
+fn room(len: usize) -> Vec<u8> {
+    vec![0u8; len.max(1)]
+}
+
 fn split(buffer: &[u8], counts: &[Count], displs: &[Count]) -> Vec<Vec<u8>> {
     counts.iter().zip(displs).map(|(&c, &d)| buffer[d as usize..(d + c) as usize].to_vec()).collect()
 }
@@ -63,10 +69,12 @@ impl Comm for Mpi {
         let mut counts = vec![0 as Count; self.size()];
         self.world.all_gather_into(&count(bytes.len()), &mut counts[..]);
         let (displs, total) = displacements(&counts);
-        let mut buffer = vec![0u8; total];
+        let mut buffer = room(total);
+        let none = room(0);
+        let send = if bytes.is_empty() { &none[..0] } else { bytes };
         {
             let mut parts = PartitionMut::new(&mut buffer[..], &counts[..], &displs[..]);
-            self.world.all_gather_varcount_into(bytes, &mut parts);
+            self.world.all_gather_varcount_into(send, &mut parts);
         }
         split(&buffer, &counts, &displs)
     }
@@ -76,9 +84,12 @@ impl Comm for Mpi {
         let mut recv_counts = vec![0 as Count; self.size()];
         self.world.all_to_all_into(&send_counts[..], &mut recv_counts[..]);
         let (send_displs, _) = displacements(&send_counts);
-        let send: Vec<u8> = outgoing.concat();
+        let mut send: Vec<u8> = outgoing.concat();
+        if send.is_empty() {
+            send = Vec::with_capacity(1);
+        }
         let (recv_displs, total) = displacements(&recv_counts);
-        let mut buffer = vec![0u8; total];
+        let mut buffer = room(total);
         {
             let parts = Partition::new(&send[..], &send_counts[..], &send_displs[..]);
             let mut into = PartitionMut::new(&mut buffer[..], &recv_counts[..], &recv_displs[..]);

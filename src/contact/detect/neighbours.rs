@@ -238,6 +238,15 @@ impl Neighbours {
     }
 }
 
+/// Every pair `[i, j]`, `i < j`, in increasing order, whose surfaces are closer than `skin`:
+/// the list's build on one level (one grid of cell `d_max + skin`), for a search with a skin of
+/// its own (the clusters of ranks).
+pub fn pairs_within(x: &[DVec3], diameter: &[f64], skin: f64) -> Vec<[u32; 2]> {
+    let d_max = diameter.iter().copied().fold(0.0, f64::max);
+    // `0.5 (s + s)` is `s` exactly: the reach is `(d_i + d_j)/2 + skin`.
+    build(x, diameter, &[skin], &[(d_max + skin).max(f64::MIN_POSITIVE)], &|_| 0).0
+}
+
 /// The level of diameter `d` when the smallest is `d_min`: `⌊log₂(d / d_min)⌋`, read from the
 /// quotient's exponent bits (exact, the same on every machine), at most [`MAX_LEVEL`].
 fn level_of(d: f64, d_min: f64) -> u8 {
