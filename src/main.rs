@@ -513,10 +513,26 @@ fn set_threads(threads: Option<u16>, on_ranks: bool) -> Result<(), String> {
     if threads.is_none() && !on_ranks {
         return Ok(());
     }
-    let n = threads.map_or(0, usize::from);
+    let n = threads.map_or_else(threads_per_rank, usize::from);
     let pool = rayon::ThreadPoolBuilder::new().num_threads(n);
     let pool = if on_ranks { pool.use_current_thread() } else { pool };
     pool.build_global().map_err(|e| format!("--threads {n}: {e}"))
+}
+
+/// A rank's threads when `--threads` is not given: the machine's cores shared among the ranks
+/// on it, and no more than the cores the rank may run on. (Open MPI binds each rank to a whole
+/// socket beyond 2 ranks: with rayon's default, 16 ranks on 16 cores would run 256 threads.)
+fn threads_per_rank() -> usize {
+    let mine = std::thread::available_parallelism().map_or(1, |n| n.get());
+    let local = ["OMPI_COMM_WORLD_LOCAL_SIZE", "MPI_LOCALNRANKS"]
+        .iter()
+        .find_map(|v| std::env::var(v).ok()?.parse::<usize>().ok())
+        .unwrap_or(1)
+        .max(1);
+    // SAFETY: sysconf reads a system constant; it has no pointer argument.
+    let online = unsafe { libc::sysconf(libc::_SC_NPROCESSORS_ONLN) };
+    let online = usize::try_from(online).ok().filter(|&n| n > 0).unwrap_or(mine);
+    (online / local).clamp(1, mine)
 }
 
 /// Says on standard error which outputs of an earlier run were removed (`output::stale`): left

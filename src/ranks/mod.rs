@@ -89,6 +89,8 @@ pub struct Split<'c> {
 pub struct SplitReport {
     /// Ranks.
     pub ranks: usize,
+    /// Rank 0's threads (each rank's, unless `--threads` was set differently per rank).
+    pub threads: usize,
     /// Re-clusterings, and those that cut the domains again.
     pub reclusterings: u64,
     /// Re-clusterings that cut the domains again.
@@ -107,8 +109,10 @@ impl SplitReport {
         let c = &self.last;
         vec![
             format!(
-                "ranks: {} (particles per rank at the last re-clustering: {:?}; worst imbalance {:.0} %)",
+                "ranks: {} × {} thread{} (particles per rank at the last re-clustering: {:?}; worst imbalance {:.0} %)",
                 self.ranks,
+                self.threads,
+                if self.threads == 1 { "" } else { "s" },
                 c.counts,
                 100.0 * self.worst_imbalance
             ),
@@ -183,7 +187,11 @@ impl<'c> Split<'c> {
             last_move: 0.0,
             handed: (0, vec![0; removed.len()]),
             failure: None,
-            report: SplitReport { ranks: comm.size(), ..SplitReport::default() },
+            report: SplitReport {
+                ranks: comm.size(),
+                threads: rayon::current_num_threads(),
+                ..SplitReport::default()
+            },
         };
         split.recluster(false);
         Ok(split)
