@@ -7,8 +7,8 @@ use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 use wetbounce::fluid::field::OutsideField;
 use wetbounce::output::{Folder, Format, OutputError, Progress};
-use wetbounce::ranks::Split;
 use wetbounce::ranks::comm::Comm;
+use wetbounce::ranks::{Split, SplitReport};
 use wetbounce::run::checkpoint::SavedScene;
 use wetbounce::run::{CheckpointPolicy, Checkpoints, Driver, Ended, RunReport, StopSignals};
 use wetbounce::scene::{LoadOptions, Scene, field_report, kind_reports};
@@ -480,13 +480,15 @@ fn prepare_resume(args: &ResumeArgs, (root, on_ranks): (bool, bool)) -> Result<P
 /// this process standing in for the ranks.
 fn split_report(scene: &Scene, k: usize) -> Result<Vec<String>, String> {
     let sim = scene.simulation();
-    let reports: Vec<Result<wetbounce::ranks::SplitReport, String>> = std::thread::scope(|s| {
+    let reports: Vec<Result<SplitReport, String>> = std::thread::scope(|s| {
         let handles: Vec<_> = wetbounce::ranks::comm::Threads::set(k)
             .into_iter()
             .map(|comm| {
                 let sim = &sim;
                 s.spawn(move || {
-                    Split::new(&comm, sim).map(|split| split.report.clone()).map_err(|e| e.to_string())
+                    Split::new(&comm, sim)
+                        .map(|split| SplitReport { threads: 0, ..split.report.clone() })
+                        .map_err(|e| e.to_string())
                 })
             })
             .collect();

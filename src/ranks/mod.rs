@@ -91,7 +91,8 @@ pub struct Split<'c> {
 pub struct SplitReport {
     /// Ranks.
     pub ranks: usize,
-    /// Rank 0's threads (each rank's, unless `--threads` was set differently per rank).
+    /// Rank 0's threads (each rank's, unless `--threads` was set differently per rank); 0 when
+    /// not known (`wetbounce check --ranks`, which runs no rank).
     pub threads: usize,
     /// Re-clusterings, and those that cut the domains again.
     pub reclusterings: u64,
@@ -111,10 +112,13 @@ impl SplitReport {
         let c = &self.last;
         vec![
             format!(
-                "ranks: {} × {} thread{} (particles per rank at the last re-clustering: {:?}; worst imbalance {:.0} %)",
+                "ranks: {}{} (particles per rank at the last re-clustering: {:?}; worst imbalance {:.0} %)",
                 self.ranks,
-                self.threads,
-                if self.threads == 1 { "" } else { "s" },
+                match self.threads {
+                    0 => String::new(),
+                    1 => " × 1 thread".to_string(),
+                    t => format!(" × {t} threads"),
+                },
                 c.counts,
                 100.0 * self.worst_imbalance
             ),
