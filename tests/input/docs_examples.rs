@@ -87,3 +87,15 @@ fn the_bad_scene_message_quoted_in_the_readme_is_what_check_prints() {
     assert!(!ok);
     assert_eq!(stderr.trim_end(), quoted);
 }
+
+#[test]
+fn the_split_check_ranks_prints_is_the_one_docs_distributed_shows() {
+    let (ok, stdout, stderr) = wetbounce(&["check", "scenes/settling_bed.toml", "--ranks", "2"]);
+    assert!(ok, "{stderr}");
+    assert!(stdout.contains("on 2 ranks, at the start:"), "{stdout}");
+    // The ranks' line gives no thread count: check runs no rank.
+    assert!(stdout.contains("  ranks: 2 (particles per rank at the last re-clustering: ["), "{stdout}");
+    // docs/distributed.md: "the settling bed is one cluster of 1964 of its 2000 beads from the start".
+    assert!(doc("docs/distributed.md").contains("one cluster of 1964 of its 2000 beads"));
+    assert!(stdout.contains("the largest 1964 particles"), "{stdout}");
+}
