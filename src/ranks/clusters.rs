@@ -472,6 +472,18 @@ mod tests {
     }
 
     #[test]
+    fn the_merge_of_id_ordered_parts_is_the_id_order_and_an_unordered_part_is_sorted() {
+        // Three ranks' parts, each in id order, their ids interleaved; one part empty.
+        let ids = [2, 5, 9, 1, 3, 4, 10, 0, 6];
+        let order = merged_order(&ids, &[0, 3, 7, 7]);
+        let merged: Vec<u32> = order.iter().map(|&i| ids[i]).collect();
+        assert_eq!(merged, vec![0, 1, 2, 3, 4, 5, 6, 9, 10]);
+        let unordered = [4, 1, 3, 0, 2];
+        let order = merged_order(&unordered, &[0, 3]);
+        assert_eq!(order.iter().map(|&i| unordered[i]).collect::<Vec<_>>(), vec![0, 1, 2, 3, 4]);
+    }
+
+    #[test]
     fn a_set_is_named_by_its_lowest_member_whatever_the_order_of_the_joins() {
         let mut a = Sets::new(6);
         a.join(5, 3);
