@@ -16,9 +16,9 @@
 
 use super::bisection::Domains;
 use super::comm::{Comm, all_gather, exchange};
+use super::parcel::Parcel;
+use crate::contact::FastMap;
 use crate::contact::detect::neighbours::pairs_within;
-use crate::contact::{FastMap, LastingContact, WallContact};
-use crate::particles::Particles;
 use crate::pipeline::World;
 use glam::DVec3;
 
@@ -124,84 +124,6 @@ struct Part {
     cluster: u32,
     count: u32,
     key: Option<DVec3>,
-}
-
-/// Particles sent to another rank (when they change owner, or to rank 0 for a checkpoint),
-/// with their lasting contacts and their walls' last forces.
-#[derive(Debug, Clone, Default, serde::Serialize, serde::Deserialize)]
-pub(crate) struct Parcel {
-    pub particles: Particles,
-    /// The lasting contacts among them, by particle ids, in this rank's order.
-    pub lasting: Vec<([u32; 2], LastingContact)>,
-    pub walls: Vec<WallContact>,
-}
-
-impl Parcel {
-    /// All of `world`'s particles, lasting contacts and walls' forces.
-    pub fn of(world: &World) -> Parcel {
-        let p = &world.particles;
-        Parcel {
-            particles: p.clone(),
-            lasting: world.lasting.iter().map(|c| ([p.id[c.a as usize], p.id[c.b as usize]], *c)).collect(),
-            walls: world.wall_contacts.clone(),
-        }
-    }
-
-    /// `parts` (each in id order) as one world's particles in id order, with the lasting
-    /// contacts (renumbered; each part's in its order, parts in turn) and the walls' forces
-    /// (sorted by particle and wall, their order in one process).
-    pub fn merge(parts: Vec<Parcel>) -> Parcel {
-        let mut merged = Parcel::default();
-        let mut starts = Vec::with_capacity(parts.len());
-        for (k, part) in parts.into_iter().enumerate() {
-            starts.push(merged.particles.len());
-            if k == 0 {
-                merged.particles = part.particles;
-            } else {
-                merged.particles.append(&part.particles);
-            }
-            merged.lasting.extend(part.lasting);
-            merged.walls.extend(part.walls);
-        }
-        let order = merged_order(&merged.particles.id, &starts);
-        merged.particles = merged.particles.select(&order);
-        merged.walls.sort_unstable_by_key(|c| (c.id, c.wall));
-        merged
-    }
-
-    /// The lasting contacts renumbered to the indices of `particles`.
-    pub fn renumbered(&self) -> Vec<LastingContact> {
-        let ids = &self.particles.id;
-        let index =
-            |id: u32| ids.binary_search(&id).expect("a lasting contact's particles came with it") as u32;
-        self.lasting.iter().map(|&([a, b], c)| LastingContact { a: index(a), b: index(b), ..c }).collect()
-    }
-}
-
-/// The rows of `ids` in id order, where `ids` is runs each in id order starting at `starts`:
-/// a merge of the runs (a frame gathers a million particles; a sort of them cost more than the
-/// merge). A run out of order, which no caller makes, is sorted all the same.
-fn merged_order(ids: &[u32], starts: &[usize]) -> Vec<usize> {
-    use std::cmp::Reverse;
-    use std::collections::BinaryHeap;
-    let ends: Vec<usize> = starts.iter().skip(1).copied().chain([ids.len()]).collect();
-    if starts.iter().zip(&ends).any(|(&a, &b)| !ids[a..b].is_sorted()) {
-        let mut order: Vec<usize> = (0..ids.len()).collect();
-        order.sort_unstable_by_key(|&i| ids[i]);
-        return order;
-    }
-    let mut next: Vec<usize> = starts.to_vec();
-    let mut heads: BinaryHeap<Reverse<(u32, usize)>> =
-        (0..starts.len()).filter(|&r| next[r] < ends[r]).map(|r| Reverse((ids[next[r]], r))).collect();
-    let mut order = Vec::with_capacity(ids.len());
-    while let Some(Reverse((_, r))) = heads.pop() {
-        order.push(next[r]);
-        next[r] += 1;
-        if next[r] < ends[r] {
-            heads.push(Reverse((ids[next[r]], r)));
-        }
-    }
-    order
 }
 
 /// The imbalance the last cut of the domains left (largest count over the mean, less one).
@@ -398,42 +320,20 @@ pub fn recluster(
 /// order.
 fn migrate(comm: &dyn Comm, world: &mut World, owner: &[usize]) {
     let (me, size) = (comm.rank(), comm.size());
-    let p = &world.particles;
     let mut rows: Vec<Vec<usize>> = vec![Vec::new(); size];
     for (i, &o) in owner.iter().enumerate() {
         rows[o].push(i);
     }
-    let by_id = |c: &LastingContact| ([p.id[c.a as usize], p.id[c.b as usize]], *c);
-    let mut parcels: Vec<Parcel> = rows
-        .iter()
-        .enumerate()
-        .map(|(r, rows)| {
-            if r == me || rows.is_empty() {
-                return Parcel::default();
-            }
-            Parcel {
-                particles: p.select(rows),
-                lasting: world.lasting.iter().filter(|c| owner[c.a as usize] == r).map(by_id).collect(),
-                walls: world
-                    .wall_contacts
-                    .iter()
-                    .filter(|w| p.id.binary_search(&w.id).is_ok_and(|i| owner[i] == r))
-                    .copied()
-                    .collect(),
+    let parcels: Vec<Parcel> = (0..size)
+        .map(|r| {
+            if r == me || rows[r].is_empty() {
+                Parcel::default()
+            } else {
+                Parcel::to_rank(world, owner, r, &rows[r])
             }
         })
         .collect();
-    let kept = Parcel {
-        particles: p.select(&rows[me]),
-        lasting: world.lasting.iter().filter(|c| owner[c.a as usize] == me).map(by_id).collect(),
-        walls: world
-            .wall_contacts
-            .iter()
-            .filter(|w| p.id.binary_search(&w.id).is_ok_and(|i| owner[i] == me))
-            .copied()
-            .collect(),
-    };
-    parcels[me] = Parcel::default();
+    let kept = Parcel::to_rank(world, owner, me, &rows[me]);
     let received: Vec<Parcel> = exchange(comm, &parcels);
     // Kept first, then what came, in rank order: a cluster's own lasting contacts keep their
     // order (the only order that matters: contacts of different clusters never meet).
@@ -469,18 +369,6 @@ mod tests {
         }
         assert_eq!(pairs, brute);
         assert!(!brute.is_empty());
-    }
-
-    #[test]
-    fn the_merge_of_id_ordered_parts_is_the_id_order_and_an_unordered_part_is_sorted() {
-        // Three ranks' parts, each in id order, their ids interleaved; one part empty.
-        let ids = [2, 5, 9, 1, 3, 4, 10, 0, 6];
-        let order = merged_order(&ids, &[0, 3, 7, 7]);
-        let merged: Vec<u32> = order.iter().map(|&i| ids[i]).collect();
-        assert_eq!(merged, vec![0, 1, 2, 3, 4, 5, 6, 9, 10]);
-        let unordered = [4, 1, 3, 0, 2];
-        let order = merged_order(&unordered, &[0, 3]);
-        assert_eq!(order.iter().map(|&i| unordered[i]).collect::<Vec<_>>(), vec![0, 1, 2, 3, 4]);
     }
 
     #[test]

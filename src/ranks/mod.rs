@@ -31,6 +31,7 @@ pub mod comm;
 mod drift;
 #[cfg(feature = "mpi")]
 pub mod mpi;
+mod parcel;
 
 use crate::contact::ContactEvent;
 use crate::fluid::field::{Outside, OutsideField};
@@ -40,10 +41,11 @@ use crate::pipeline::outlets::Removal;
 use crate::pipeline::{LostParticle, Simulation};
 use crate::run::Steps;
 use bisection::Domains;
-use clusters::{Balance, Clustering, Parcel, recluster};
+use clusters::{Balance, Clustering, recluster};
 use comm::{Comm, all_gather, decode, encode, exchange};
 use drift::{Agreeing, realign};
 use glam::DVec3;
+use parcel::Parcel;
 use std::cell::Cell;
 
 /// The cluster skin holds at least this many of the last step's largest moves: the clusters
