@@ -419,10 +419,17 @@ pub fn added_mass_normal_and_slope(gap: f64) -> (f64, f64) {
     let (mut u_prev, mut u) = (1.0, 2.0 * x);
     let (mut du_prev, mut du) = (0.0, 2.0);
     let (mut sum, mut slope) = (0.0, 0.0);
+    // Beyond the tail's gap the terms fall by `(2x)³` or more each: once one is below 1e-17
+    // of the sum (and its slope's of the slope), the rest change neither in the last digit.
+    let early = gap >= ADDED_MASS_TAIL_GAP;
     for _ in 2..=N {
-        sum += 1.0 / (u * u * u);
         let u2 = u * u;
-        slope -= 3.0 * du / (u2 * u2);
+        let (term, dterm) = (1.0 / (u2 * u), 3.0 * du / (u2 * u2));
+        sum += term;
+        slope -= dterm;
+        if early && term < 1e-17 * sum && dterm < -1e-17 * slope {
+            break;
+        }
         let next = 2.0 * x * u - u_prev;
         let dnext = 2.0 * u + 2.0 * x * du - du_prev;
         (u_prev, u, du_prev, du) = (u, next, du, dnext);

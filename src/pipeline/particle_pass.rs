@@ -77,10 +77,13 @@ pub(crate) fn run<M: Motion>(
     let chunks: Vec<Chunk> = match width {
         None => columns
             .map(|cols| {
-                if cols.state.iter().all(|&s| s == State::Free) {
-                    free_chunk(flight, cols, t0, t1)
-                } else {
+                if !cols.state.iter().all(|&s| s == State::Free) {
                     mixed_chunk(flight, cols, t0, t1, Forgetting)
+                } else if flight.lubricated() {
+                    // A copy of its own, so that a scene without the effect keeps its loop.
+                    free_chunk::<M, true>(flight, cols, t0, t1)
+                } else {
+                    free_chunk::<M, false>(flight, cols, t0, t1)
                 }
             })
             .collect(),
@@ -155,7 +158,12 @@ struct Columns<'a> {
 /// adaptor with a closure, no `<[T; N]>::map`): a call out of the AVX2 copy runs without AVX2
 /// and passes its values through memory.
 #[multiversion(targets("x86_64+avx2"))]
-fn free_chunk<M: Motion>(flight: &Kernel<M>, mut c: Columns, t0: f64, t1: f64) -> Chunk {
+fn free_chunk<M: Motion, const LUBRICATED: bool>(
+    flight: &Kernel<M>,
+    mut c: Columns,
+    t0: f64,
+    t1: f64,
+) -> Chunk {
     // Free at the start of the step: released, if ever, before t0.
     debug_assert!(c.release_time.iter().all(|&t| t <= t0));
     // 2. alone first, by lane groups of four particles where that pays (`crate::numeric::lanes`), the
@@ -182,12 +190,6 @@ fn free_chunk<M: Motion>(flight: &Kernel<M>, mut c: Columns, t0: f64, t1: f64) -
         let field = flight.field_of(c.kind[j] as usize, c.diameter[j], (c.base + j) as u32);
         (c.x1[j], c.v1[j]) = flight.motion.advance(&field, c.pos[j], c.vel[j], h);
     }
-    // With wall lubrication, the few whose move comes within its range of a wall fly again,
-    // through the kernel, which looks for the wall (`Kernel::fly`); the rest keep the lane
-    // group's flight, which is what the kernel would give them too.
-    if flight.lubricated() {
-        refly_near_walls(flight, &mut c, t0, t1);
-    }
     c.s1.fill(State::Free);
     c.w1.fill(NO_WALL);
     // 3. (walls), and what the step needs to know of the moves.
@@ -195,7 +197,20 @@ fn free_chunk<M: Motion>(flight: &Kernel<M>, mut c: Columns, t0: f64, t1: f64) -
     // Sum of every new coordinate: finite unless one is not (or, harmlessly, unless it
     // overflows), so one test per chunk instead of six per particle.
     let mut sum = 0.0;
+    // With wall lubrication, the few whose move comes within its range of a wall fly again,
+    // through the kernel, which looks for the wall (`Kernel::fly`); the rest keep the lane
+    // group's flight, which is what the kernel would give them too. Tested here, in the one
+    // pass over the moves that also finds the wall candidates: the near-wall set of the step.
     for j in 0..c.pos.len() {
+        if LUBRICATED {
+            let reach = 0.5 * c.diameter[j] * (1.0 + LUBRICATION_RANGE);
+            for w in flight.walls {
+                if w.shape.may_touch(c.pos[j], c.x1[j], reach) {
+                    refly(flight, &mut c, j, (t0, t1));
+                    break;
+                }
+            }
+        }
         let (x, xn, vn, r) = (c.pos[j], c.x1[j], c.v1[j], 0.5 * c.diameter[j]);
         sum += (xn + vn).element_sum();
         // `contact::touches_wall` for a free particle, written out: calling it here (with
@@ -214,25 +229,19 @@ fn free_chunk<M: Motion>(flight: &Kernel<M>, mut c: Columns, t0: f64, t1: f64) -
     out
 }
 
-/// Stage 2 again for the free particles of a chunk whose move (straight, from the start to the
+/// Stage 2 again for free particle `j` of a chunk, whose move (straight, from the start to the
 /// free flight's end) comes within the lubrication range of a wall, with the sphere grown by
-/// that range: [`Kernel::free_flight`] flies them by the lubricated sub-steps when a wall is
+/// that range: [`Kernel::free_flight`] flies it by the lubricated sub-steps when a wall is
 /// within reach, and otherwise as the lane groups did. The range is ten radii, where the wall's
 /// terms have tapered to zero with their slope, so a path that bends back into the range within
 /// one step (by less than `|a| h²/8`) meets a wall term of the order of that bend squared.
 /// Outside [`free_chunk`]'s inlined loops: it runs only in scenes with the effect.
 #[inline(never)]
-fn refly_near_walls<M: Motion>(flight: &Kernel<M>, c: &mut Columns, t0: f64, t1: f64) {
-    for j in 0..c.pos.len() {
-        let (x, d) = (c.pos[j], c.diameter[j]);
-        let reach = 0.5 * d * (1.0 + LUBRICATION_RANGE);
-        if flight.walls.iter().any(|w| w.shape.may_touch(x, c.x1[j], reach)) {
-            let start =
-                Segment { t: t0, x, v: c.vel[j], state: State::Free, wall: NO_WALL, memory: NO_MEMORY };
-            let f = flight.free_flight(start, (c.kind[j] as usize, d), t1);
-            (c.x1[j], c.v1[j]) = (f.x, f.v);
-        }
-    }
+fn refly<M: Motion>(flight: &Kernel<M>, c: &mut Columns, j: usize, (t0, t1): (f64, f64)) {
+    let start =
+        Segment { t: t0, x: c.pos[j], v: c.vel[j], state: State::Free, wall: NO_WALL, memory: NO_MEMORY };
+    let f = flight.free_flight(start, (c.kind[j] as usize, c.diameter[j]), t1);
+    (c.x1[j], c.v1[j]) = (f.x, f.v);
 }
 
 /// How [`mixed_chunk`] flies a particle: without memory, or writing its memory at the end of
