@@ -29,7 +29,9 @@ pub use fluid_acceleration::{FluidAcceleration, fluid_acceleration_gain};
 pub use gravity::Gravity;
 pub use history::{History, MemoryKernel, SHORTEST_LAG, history_rate_times_radius};
 pub use rotation::Rotation;
-pub use wall_lubrication::{RANGE as LUBRICATION_RANGE, WallExcess, WallLubrication, taper, wall_excess};
+pub use wall_lubrication::{
+    RANGE as LUBRICATION_RANGE, TABLE_FROM, WallExcess, WallLubrication, WallTable, taper, wall_excess,
+};
 
 use crate::fluid::Fluid;
 use crate::particles::{Features, ParticleKind};
@@ -136,8 +138,9 @@ pub struct Physics {
     /// Which kinds the contact-time effect holds, indexed like the kinds (empty without it).
     pub held_kinds: Vec<bool>,
     /// With the wall-lubrication effect **[ext]**: the drag and added mass near a wall
-    /// (docs/physics.md §8), evaluated by the flight kernel for particles near a wall only.
-    pub wall_lubrication: bool,
+    /// (docs/physics.md §8), evaluated by the flight kernel for particles near a wall only,
+    /// from its terms tabulated away from the film ([`WallTable`]); `None` without it.
+    pub wall_lubrication: Option<std::sync::Arc<WallTable>>,
     /// With the history effect **[ext]**: the memory kernel of the Basset–Boussinesq force
     /// (docs/physics.md §10), integrated by the flight kernel with one memory per particle.
     pub history: Option<MemoryKernel>,
@@ -169,7 +172,7 @@ impl Physics {
             added_mass: false,
             hold_at_contact: false,
             held_kinds: Vec::new(),
-            wall_lubrication: false,
+            wall_lubrication: None,
             history: None,
             rotation: false,
             fluid_acceleration: false,

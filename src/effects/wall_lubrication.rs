@@ -6,6 +6,7 @@ use crate::correlations::{added_mass_normal_and_slope, wall_factor_normal, wall_
 use crate::fluid::Fluid;
 use crate::particles::ParticleKind;
 use serde::Deserialize;
+use std::sync::Arc;
 
 /// With this effect, a particle whose lubrication gap `h` to its nearest wall is within
 /// [`RANGE`] radii feels the wall (docs/physics.md §8): the drag normal to the wall grows by
@@ -23,7 +24,7 @@ impl Effect for WallLubrication {
     }
 
     fn apply(&self, _fluid: &Fluid, _kinds: &[ParticleKind], physics: &mut Physics) {
-        physics.wall_lubrication = true;
+        physics.wall_lubrication = Some(Arc::new(WallTable::new()));
     }
 }
 
@@ -91,6 +92,90 @@ fn taper_slope(eps: f64) -> f64 {
     }
 }
 
+/// Gap ratio from which [`WallTable`] interpolates (below it, in the film, the wall terms are
+/// evaluated in their fast closed forms, whose steep `1/ε` and `ln ε` a table would need many
+/// more nodes for).
+pub const TABLE_FROM: f64 = 0.5;
+/// Intervals of [`WallTable`]'s grid.
+const TABLE_INTERVALS: usize = 1024;
+
+/// The wall terms of [`wall_excess`] between [`TABLE_FROM`] and [`RANGE`], tabulated once per
+/// scene: the four untapered functions `λ⊥ − 1`, `λ∥ − 1`, `C_M − 1/2` and `dC_M/dε` on a
+/// uniform grid of `s = 1/(1 + ε)`, where each is smooth, interpolated by the cubic through the
+/// four nearest nodes, then tapered. Evaluating the closed forms (a logarithm, the added mass's
+/// image sum and its slope) was two thirds of a near-wall particle's flight, and a particle
+/// away from the film evaluates them twice per step. Error against [`wall_excess`] (test
+/// `the_table_is_the_closed_forms_to_1e_11`): below 1e-11 relative for the drag factors and
+/// the added mass, a millionth of the fast forms' own error against the exact series; below
+/// 2e-8 for the added mass's slope, whose closed form itself steps by 1e-8 where its tail stops
+/// (`ε` = 1.58), a term of `(dm/dh) v_n²` that the cubic smooths.
+#[derive(Debug, Clone, PartialEq)]
+pub struct WallTable {
+    /// `s` of node 0 (one interval below `1/(1 + RANGE)`: every cubic has its four nodes).
+    s0: f64,
+    /// Intervals per unit of `s`.
+    per_s: f64,
+    /// The four functions at every node.
+    nodes: Vec<[f64; 4]>,
+}
+
+impl WallTable {
+    /// The table, from the closed forms (about 10⁶ instructions, once per scene).
+    pub fn new() -> Self {
+        let (lo, hi) = (1.0 / (1.0 + RANGE), 1.0 / (1.0 + TABLE_FROM));
+        let ds = (hi - lo) / TABLE_INTERVALS as f64;
+        let s0 = lo - ds;
+        let nodes = (0..TABLE_INTERVALS + 3)
+            .map(|i| {
+                let eps = 1.0 / (s0 + i as f64 * ds) - 1.0;
+                let (cm, cm_slope) = added_mass_normal_and_slope(eps);
+                [wall_factor_normal(eps) - 1.0, wall_factor_parallel(eps) - 1.0, cm - 0.5, cm_slope]
+            })
+            .collect();
+        WallTable { s0, per_s: 1.0 / ds, nodes }
+    }
+
+    /// [`wall_excess`] at gap ratio `eps > 0`, interpolated from [`TABLE_FROM`] on.
+    #[inline]
+    pub fn excess(&self, eps: f64) -> WallExcess {
+        if eps < TABLE_FROM {
+            return wall_excess(eps);
+        }
+        let w = taper(eps);
+        if w == 0.0 {
+            return WallExcess { normal: 0.0, parallel: 0.0, added_mass: 0.0, added_mass_slope: 0.0 };
+        }
+        let t = (1.0 / (1.0 + eps) - self.s0) * self.per_s;
+        // Nodes i − 1 … i + 2 around t (> 1 here: the cast is the floor), i ≥ 1 and i + 2
+        // within the table at both ends.
+        let i = (t as usize).clamp(1, TABLE_INTERVALS);
+        let u = t - i as f64;
+        // Lagrange weights of the nodes at −1, 0, 1, 2.
+        let (um, up, u2) = (u + 1.0, u - 1.0, u - 2.0);
+        const SIXTH: f64 = 1.0 / 6.0;
+        let weights = [-u * up * u2 * SIXTH, um * up * u2 * 0.5, -um * u * u2 * 0.5, um * u * up * SIXTH];
+        let mut f = [0.0; 4];
+        for (node, weight) in self.nodes[i - 1..i + 3].iter().zip(weights) {
+            for (f, value) in f.iter_mut().zip(node) {
+                *f += weight * value;
+            }
+        }
+        let [normal, parallel, cm, cm_slope] = f;
+        WallExcess {
+            normal: normal * w,
+            parallel: parallel * w,
+            added_mass: cm * w,
+            added_mass_slope: cm_slope * w + cm * taper_slope(eps),
+        }
+    }
+}
+
+impl Default for WallTable {
+    fn default() -> Self {
+        Self::new()
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -114,6 +199,25 @@ mod tests {
             let slope = wall_excess(eps).added_mass_slope;
             assert!((slope - fd).abs() <= 1e-6 * fd.abs() + 1e-12, "eps {eps}: {slope} vs {fd}");
         }
+    }
+
+    #[test]
+    fn the_table_is_the_closed_forms_to_1e_11() {
+        let table = WallTable::new();
+        let (mut values, mut slope): (f64, f64) = (0.0, 0.0);
+        for i in 0..=200_000 {
+            // From below the table's start to past the range, the taper's corners included.
+            let eps = 0.4 + 10.0 * i as f64 / 200_000.0;
+            let (a, b) = (table.excess(eps), wall_excess(eps));
+            for (x, y) in [(a.normal, b.normal), (a.parallel, b.parallel), (a.added_mass, b.added_mass)] {
+                values = values.max((x - y).abs() / y.abs().max(1e-300));
+            }
+            slope = slope
+                .max((a.added_mass_slope - b.added_mass_slope).abs() / b.added_mass_slope.abs().max(1e-6));
+        }
+        assert!(values < 1e-11 && slope < 2e-8, "{values:e} {slope:e}");
+        assert_eq!(table.excess(0.3), wall_excess(0.3));
+        assert_eq!(table.excess(RANGE).normal, 0.0);
     }
 
     #[test]

@@ -13,10 +13,11 @@
 use super::Kernel;
 use super::Motion;
 use super::StepCoefficients;
-use crate::effects::{LUBRICATION_RANGE, MemoryKernel, wall_excess};
+use crate::effects::{LUBRICATION_RANGE, MemoryKernel, WallTable};
 use crate::integrate::{ForceField, phi12};
 use crate::walls::{Surface, Wall};
 use glam::DVec3;
+use std::sync::Arc;
 
 /// Largest change of the lubrication gap in one sub-step, as a fraction of the gap: the wall
 /// factors then change by at most about 10 % over a sub-step (`λ⊥ ∝ 1/h` near contact).
@@ -28,6 +29,8 @@ const MAX_SUBSTEPS: u32 = 100_000;
 
 /// What the kernel keeps for the effect, per particle kind.
 pub(super) struct Lubrication {
+    /// The wall terms ([`WallTable::excess`]).
+    pub table: Arc<WallTable>,
     /// Each kind's roughness (m).
     pub kind_roughness: Vec<f64>,
     /// Each kind's inertia density far from walls, `ρp + C_M∞ ρ` (kg/m³).
@@ -49,6 +52,13 @@ fn nearest(walls: &[Wall], x: DVec3, r: f64, kind_roughness: f64) -> Option<(f64
         }
     }
     best
+}
+
+/// Whether a particle of radius `r` (m) at lubrication gap `gap` (m) from its nearest wall may
+/// come within the effect's range of it in a flight of `h` (s), at `speed` (m/s) and with an
+/// acceleration of size `accel` (m/s²): the move is at most `(2|v| + |a| h) h`.
+fn may_reach(gap: f64, r: f64, speed: f64, accel: f64, h: f64) -> bool {
+    gap - LUBRICATION_RANGE * r < (2.0 * speed + accel * h) * h
 }
 
 /// The frozen-coefficient linear acceleration of one state, split along the wall normal `n`.
@@ -173,7 +183,7 @@ impl<M: Motion> Kernel<'_, M> {
         (h, n): (f64, DVec3),
     ) -> Split {
         let l = field.eval(x, v);
-        let ex = wall_excess(h / r);
+        let ex = lub.table.excess(h / r);
         let stokes_rate = self.kind_drag_rate[k] / (4.0 * r * r);
         let i_inf = lub.kind_inertia[k];
         let i_n = i_inf + lub.added_density * ex.added_mass;
@@ -204,9 +214,11 @@ impl<M: Motion> Kernel<'_, M> {
         (x, v): (DVec3, DVec3),
         h: f64,
     ) -> Option<(DVec3, DVec3)> {
-        let accel = field.eval(x, v).total(v).length();
-        let wall = self.wall_in_reach(lub, (k, r), (x, v), accel, h)?;
-        Some(self.substeps(lub, field, (k, r), (x, v), h, wall, None))
+        let start = nearest(self.walls, x, r, lub.kind_roughness[k])?;
+        // Within reach at its speed alone, the acceleration (a force evaluation) is not needed.
+        let within = may_reach(start.0, r, v.length(), 0.0, h)
+            || may_reach(start.0, r, v.length(), field.eval(x, v).total(v).length(), h);
+        within.then(|| self.substeps(lub, field, (k, r), (x, v), h, start, None))
     }
 
     /// The nearest wall, lubrication gap and normal, when the particle may come within the
@@ -221,7 +233,7 @@ impl<M: Motion> Kernel<'_, M> {
         h: f64,
     ) -> Option<(f64, DVec3)> {
         let start = nearest(self.walls, x, r, lub.kind_roughness[k])?;
-        if start.0 - LUBRICATION_RANGE * r >= (2.0 * v.length() + accel * h) * h { None } else { Some(start) }
+        may_reach(start.0, r, v.length(), accel, h).then_some(start)
     }
 
     /// The sub-steps of a flight of `h` (s) from `(x, v)` near a wall (`start`, from

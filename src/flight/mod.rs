@@ -85,8 +85,10 @@ impl<'a, M: Motion> Kernel<'a, M> {
     ) -> Self {
         let n = physics.kinds.len();
         let mu = fluid.viscosity;
-        let nonlinear = (physics.wall_lubrication && physics.drag.is_some()).then(|| {
+        let table = physics.wall_lubrication.as_ref().filter(|_| physics.drag.is_some());
+        let nonlinear = table.map(|table| {
             NonLinear::Lubrication(lubricated::Lubrication {
+                table: table.clone(),
                 kind_roughness: kinds.iter().map(|k| k.roughness).collect(),
                 kind_inertia: physics.kinds.iter().map(|t| t.inertia_density).collect(),
                 added_density: if physics.added_mass { fluid.density } else { 0.0 },
