@@ -7,6 +7,8 @@
 //!   time), 8 flops each, so the FMA pipes never wait on a result. Code that does not
 //!   vectorise issues the same instructions with one lane of four busy: its ceiling is a
 //!   quarter of this (docs/roofline.md);
+//! - **clock**: a chain of dependent integer additions, one per cycle (x86-64 only), for
+//!   instructions per cycle from instruction counts and times;
 //! - **bandwidth**: the STREAM triad `a = b + s c` over three arrays of 64 MiB each (well past
 //!   the last-level cache), counting 24 bytes per element (two read, one written; the write's
 //!   read for ownership not counted, as STREAM does not).
@@ -28,6 +30,9 @@ fn main() {
     if cores > 1 {
         counts.push(cores);
     }
+    if let Some(hz) = best(clock) {
+        println!("clock: {:.2} GHz (one thread)", hz / 1e9);
+    }
     println!("threads | AVX2 FMA (Gflop/s) | triad (GB/s)");
     for threads in counts {
         let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build().expect("a thread pool");
@@ -40,6 +45,33 @@ fn main() {
 /// The largest of five measurements, `None` when the measurement is not possible here.
 fn best(f: impl Fn() -> Option<f64>) -> Option<f64> {
     (0..5).filter_map(|_| f()).reduce(f64::max)
+}
+
+/// Cycles per second of one thread: a chain of dependent additions, each waiting one cycle
+/// for the last.
+fn clock() -> Option<f64> {
+    #[cfg(target_arch = "x86_64")]
+    {
+        const ROUNDS: u64 = 100_000_000;
+        let mut x: u64 = 0;
+        let start = Instant::now();
+        for _ in 0..ROUNDS {
+            // SAFETY: eight register additions, no memory touched.
+            unsafe {
+                std::arch::asm!(
+                    "add {0}, 1", "add {0}, 1", "add {0}, 1", "add {0}, 1",
+                    "add {0}, 1", "add {0}, 1", "add {0}, 1", "add {0}, 1",
+                    inout(reg) x,
+                    options(nomem, nostack, pure),
+                );
+            }
+        }
+        let secs = start.elapsed().as_secs_f64();
+        std::hint::black_box(x);
+        return Some(8.0 * ROUNDS as f64 / secs);
+    }
+    #[allow(unreachable_code)]
+    None
 }
 
 /// Flop/s of `threads` threads each running [`fma_chains`].
