@@ -22,7 +22,8 @@ pub(crate) fn phi12(z: f64) -> (f64, f64) {
     if z.abs() < 0.1 { phi12_series(z) } else { phi12_closed(z) }
 }
 
-/// `1/j!` for `j = 1 … 11`: the Taylor coefficients of `φ1` (from `1/1!`) and `φ2` (from `1/2!`).
+/// `INV_FACTORIAL[i] = 1/(i + 1)!`: the Taylor coefficients of `φ1` (from index 0) and `φ2`
+/// (from index 1).
 const INV_FACTORIAL: [f64; 11] = {
     let mut c = [1.0; 11];
     let mut j = 1;
