@@ -13,6 +13,7 @@
 #
 #   apt-get install -y liggghts          # Debian package, with Open MPI
 #   bash tools/peer_ratio.sh             # STEPS=20000, BED_STEPS=2000 by default
+#   BED_STEPS=0 bash tools/peer_ratio.sh # without the dense bed (its settling takes ~25 min)
 set -euo pipefail
 HERE=$(cd "$(dirname "$0")/.." && pwd)
 PEERS=${PEERS:-$HERE/peers/liggghts}
@@ -51,13 +52,15 @@ for scene in bench_paper bench_paper_lubrication bench_paper_history bench_paper
 done
 # The dense bed: each engine settles its beads first (not timed), then steps the bed.
 # (with a screen: LIGGGHTS 3.8.0's insert/pack segfaults writing to none, peers/liggghts/run.sh)
-liggghts -in in.s2_bed_prep -log log.prep >screen.prep 2>&1
-sed -e 's/^dt = 8.77e-6/dt = 2e-4/' -e 's/^duration = 0.1754 .*/duration = 3.0/' \
-  -e 's/^output_interval = 0.1754/output_interval = 3.0/' "$HERE/scenes/bench_bed_friction.toml" >settle.toml
-"$BIN/wetbounce" run settle.toml --out settled --formats csv --quiet --checkpoint-every 3.0 >/dev/null
-CHECKPOINT=$(ls settled/checkpoints/checkpoint-*.wbck | tail -1)
-for r in 1 2; do
-  L=$(lig $r in.s2_bed "$BED_STEPS"); W=$(wb $r bench_bed_friction "$BED_STEPS" --from "$CHECKPOINT")
-  printf "%-18s %-8s %16s %16s %8.2f\n" S2_bed "$r" "$L" "$W" "$(awk -v w="$W" -v l="$L" 'BEGIN{print w/l}')"
-done
+if [ "$BED_STEPS" -gt 0 ]; then
+  liggghts -in in.s2_bed_prep -log log.prep >screen.prep 2>&1
+  sed -e 's/^dt = 8.77e-6/dt = 2e-4/' -e 's/^duration = 0.1754 .*/duration = 3.0/' \
+    -e 's/^output_interval = 0.1754/output_interval = 3.0/' "$HERE/scenes/bench_bed_friction.toml" >settle.toml
+  "$BIN/wetbounce" run settle.toml --out settled --formats csv --quiet --checkpoint-every 3.0 >/dev/null
+  CHECKPOINT=$(ls settled/checkpoints/checkpoint-*.wbck | tail -1)
+  for r in 1 2; do
+    L=$(lig $r in.s2_bed "$BED_STEPS"); W=$(wb $r bench_bed_friction "$BED_STEPS" --from "$CHECKPOINT")
+    printf "%-18s %-8s %16s %16s %8.2f\n" S2_bed "$r" "$L" "$W" "$(awk -v w="$W" -v l="$L" 'BEGIN{print w/l}')"
+  done
+fi
 rm -rf "$WORK"
