@@ -30,7 +30,7 @@ pub use gravity::Gravity;
 pub use history::{History, MemoryKernel, SHORTEST_LAG, history_rate_times_radius};
 pub use rotation::Rotation;
 pub use wall_lubrication::{
-    RANGE as LUBRICATION_RANGE, TABLE_FROM, WallExcess, WallLubrication, WallTable, taper, wall_excess,
+    RANGE as LUBRICATION_RANGE, WallExcess, WallLubrication, WallTable, taper, wall_excess,
 };
 
 use crate::fluid::Fluid;

@@ -67,11 +67,17 @@ pub struct WallExcess {
     pub added_mass_slope: f64,
 }
 
+impl WallExcess {
+    /// Nothing: beyond the range.
+    const NONE: WallExcess =
+        WallExcess { normal: 0.0, parallel: 0.0, added_mass: 0.0, added_mass_slope: 0.0 };
+}
+
 /// [`WallExcess`] at gap ratio `eps > 0`.
 pub fn wall_excess(eps: f64) -> WallExcess {
     let w = taper(eps);
     if w == 0.0 {
-        return WallExcess { normal: 0.0, parallel: 0.0, added_mass: 0.0, added_mass_slope: 0.0 };
+        return WallExcess::NONE;
     }
     let (cm, cm_slope) = added_mass_normal_and_slope(eps);
     WallExcess {
@@ -95,7 +101,7 @@ fn taper_slope(eps: f64) -> f64 {
 /// Gap ratio from which [`WallTable`] interpolates (below it, in the film, the wall terms are
 /// evaluated in their fast closed forms, whose steep `1/ε` and `ln ε` a table would need many
 /// more nodes for).
-pub const TABLE_FROM: f64 = 0.5;
+const TABLE_FROM: f64 = 0.5;
 /// Intervals of [`WallTable`]'s grid.
 const TABLE_INTERVALS: usize = 1024;
 
@@ -143,7 +149,7 @@ impl WallTable {
         }
         let w = taper(eps);
         if w == 0.0 {
-            return WallExcess { normal: 0.0, parallel: 0.0, added_mass: 0.0, added_mass_slope: 0.0 };
+            return WallExcess::NONE;
         }
         let t = (1.0 / (1.0 + eps) - self.s0) * self.per_s;
         // Nodes i − 1 … i + 2 around t (> 1 here: the cast is the floor), i ≥ 1 and i + 2

@@ -134,7 +134,7 @@ pub(super) fn build(
         // The effect checks the sign itself; the range is the scene's (ranges.rs).
         ranges::ADDED_MASS.check("effects.added_mass.coefficient", physics.added_mass_coefficient)?;
     }
-    if physics.wall_lubrication.is_some() && physics.drag.is_none() {
+    if physics_has_lubrication && physics.drag.is_none() {
         return Err(Invalid::new(
             "effects.wall_lubrication",
             "needs the drag effect (it raises the drag near walls), got a scene without drag",
@@ -154,9 +154,9 @@ pub(super) fn build(
         tangential_restitution: tangential_rule(b, friction)?,
         friction,
         hold_at_contact: physics.hold_at_contact,
-        e_rule: e_rule(b, physics.wall_lubrication.is_some())?,
+        e_rule: e_rule(b, physics_has_lubrication)?,
     };
-    check_roughness(&file, &kinds, &walls, physics.wall_lubrication.is_some())?;
+    check_roughness(&file, &kinds, &walls, physics_has_lubrication)?;
     let has_solid = kinds.iter().any(|k| matches!(k.material, Material::Solid { .. }));
     if has_solid && rule.st_critical <= EQ4_POLE {
         return Err(Invalid::new(
