@@ -7,7 +7,9 @@
 #     bash tools/same_outputs.sh after.txt        # on the new one
 #     diff before.txt after.txt                   # no output: the same bytes
 #
-# With WETBOUNCE=path/to/binary it runs that binary instead (e.g. a copy of the old build).
+# With WETBOUNCE=path/to/binary it runs that binary instead (e.g. a copy of the old build), and
+# with THREADS=T it runs each scene on T worker threads (default: all cores), so that lists made
+# at 1, 2 and 16 threads show the results do not depend on the thread count.
 #
 # summary.json carries the run's wall time, which differs between runs: it is checked with that
 # one field removed. Takes about 5 minutes on 2 cores (the column and the contactor dominate).
@@ -28,7 +30,7 @@ trap 'rm -rf "$out"' EXIT
 : >"$list"
 for scene in "${scenes[@]}"; do
   stem=$(basename "$scene" .toml)
-  "$bin" run "$scene" --out "$out/$stem" --formats mcap,csv --quiet >/dev/null
+  "$bin" run "$scene" --out "$out/$stem" --formats mcap,csv --quiet ${THREADS:+--threads "$THREADS"} >/dev/null
   for f in "$out/$stem"/*; do
     name="$stem/$(basename "$f")"
     if [ "$(basename "$f")" = summary.json ]; then
@@ -38,6 +40,6 @@ for scene in "${scenes[@]}"; do
     fi
     echo "$sum  $name" >>"$list"
   done
-  echo "$scene: done" >&2
+  echo "$scene: done ($SECONDS s)" >&2
 done
 cat "$list"

@@ -5,7 +5,8 @@
 //! output, 1,000,000, every case; `-` for standard output); `SCALING_STEPS=K` times K steps
 //! instead of 2·10⁷/N between 200 and 2000; `SCALING_N=N` runs that one N instead of the sweep
 //! 10³…MAX_N, `SCALING_THREADS=T` that one thread count instead of 1 and 2 (one run per process,
-//! so that `/usr/bin/time -v` gives its peak memory). Cases:
+//! so that `/usr/bin/time -v` gives its peak memory) or `SCALING_THREADS=1,4,16` those counts
+//! on one scene built once. Cases:
 //! - `dilute`: the LIGGGHTS peer's scene scaled to N — beads on a cubic lattice at 3 d in a box
 //!   of liquid (ρ = 1000 kg/m³, μ = 0.1 Pa·s), gravity, buoyancy, Stokes drag, Euler, 20 mm above
 //!   the floor so that no bead touches a wall in the timed steps;
@@ -299,7 +300,15 @@ fn main() {
         Some(n) => vec![n],
         None => [1_000, 10_000, 100_000, 1_000_000].into_iter().filter(|&n| n <= max_n).collect(),
     };
-    let thread_counts: Vec<usize> = env_number("SCALING_THREADS").map_or(vec![1, 2], |t| vec![t]);
+    // One count, or several separated by commas (`1,2,4,8,16`): the scene is then built once.
+    let thread_counts: Vec<usize> = std::env::var("SCALING_THREADS").map_or(vec![1, 2], |s| {
+        s.split(',')
+            .map(|t| match t.trim().parse::<usize>() {
+                Ok(t) if t > 0 => t,
+                _ => fail(format!("SCALING_THREADS must be thread counts separated by commas, got {s}")),
+            })
+            .collect()
+    });
     for case in cases.into_iter().filter(|c| only.is_none_or(|o| o == c)) {
         for &n in &ns {
             let base = scene(case, n);
