@@ -11,6 +11,7 @@ use crate::flight::Motion;
 use crate::particles::{Next, Particles, State};
 use crate::walls::{Surface, push_out};
 use glam::DVec3;
+use rayon::prelude::*;
 
 /// A lasting contact between particles `a < b` (indices): after an impact below `St_c`
 /// (resting: they may not approach) or during a hold (they move together) **[ext]**.
@@ -201,8 +202,9 @@ pub(crate) fn keep_lasting<M: Motion>(
     }
     if friction {
         // With friction a particle resting alone on a wall is held by it too: the kernel slid
-        // it without friction, the rows below add it.
-        involved.extend((0..p.len()).filter(|&i| state[i] == State::Resting));
+        // it without friction, the rows below add it. A pass over every particle, every step:
+        // in parallel (in order), or it was a fifth of a 10⁶-bead step on 16 threads.
+        involved.par_extend((0..p.len()).into_par_iter().filter(|&i| state[i] == State::Resting));
         involved.sort_unstable();
         involved.dedup();
     }
