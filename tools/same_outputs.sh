@@ -12,7 +12,8 @@
 # at 1, 2 and 16 threads show the results do not depend on the thread count.
 #
 # summary.json carries the run's wall time, which differs between runs: it is checked with that
-# one field removed. Takes about 5 minutes on 2 cores (the column and the contactor dominate).
+# one field removed. Takes about 5 minutes on 2 cores (the column and the contactor dominate);
+# about 18 with THREADS=1 and 10 with THREADS=16, where the dense bed and the heaps dominate.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 list=${1:?usage: bash tools/same_outputs.sh LIST_FILE [SCENE...]}
