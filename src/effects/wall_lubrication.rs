@@ -4,6 +4,7 @@
 use super::{Effect, Physics};
 use crate::correlations::{added_mass_normal_and_slope, wall_factor_normal, wall_factor_parallel};
 use crate::fluid::Fluid;
+use crate::numeric::lanes::{F64x4, Real, each};
 use crate::particles::ParticleKind;
 use serde::Deserialize;
 use std::sync::Arc;
@@ -55,16 +56,17 @@ pub fn taper(eps: f64) -> f64 {
 /// derivative in `eps` (for the `−½ (dm/dh) v_n²` force that keeps the energy of the potential
 /// flow consistent). `w` is [`taper`]. Brenner (1961) and O'Neill (1964) in their fast forms
 /// (`correlations::wall_hindrance`, relative error ≤ 3e-5), the image series for `C_M`.
+/// Of one gap, or of a lane group of four ([`WallTable::excess_lanes`]).
 #[derive(Debug, Clone, Copy, PartialEq)]
-pub struct WallExcess {
+pub struct WallExcess<R = f64> {
     /// `(λ⊥ − 1) w`.
-    pub normal: f64,
+    pub normal: R,
     /// `(λ∥ − 1) w`.
-    pub parallel: f64,
+    pub parallel: R,
     /// `(C_M(h) − 1/2) w`.
-    pub added_mass: f64,
+    pub added_mass: R,
     /// `d/d eps` of `added_mass`.
-    pub added_mass_slope: f64,
+    pub added_mass_slope: R,
 }
 
 impl WallExcess {
@@ -147,32 +149,84 @@ impl WallTable {
         if eps < TABLE_FROM {
             return wall_excess(eps);
         }
-        let w = taper(eps);
-        if w == 0.0 {
-            return WallExcess::NONE;
+        let (i, t) = self.locate(eps);
+        let f = interpolate(lagrange(t - i as f64), &self.nodes[i - 1..i + 3]);
+        tapered(f, taper(eps), taper_slope(eps))
+    }
+
+    /// [`WallTable::excess`] of a lane group, lane for lane the same bits: in lane form when
+    /// every gap is in the table (the common case: the film is a small part of the range).
+    #[inline(always)]
+    pub fn excess_lanes(&self, eps: F64x4) -> WallExcess<F64x4> {
+        if !eps.all(|e| e >= TABLE_FROM) {
+            let e = each(eps.0, |e| self.excess(e));
+            return WallExcess {
+                normal: F64x4(each(e, |e| e.normal)),
+                parallel: F64x4(each(e, |e| e.parallel)),
+                added_mass: F64x4(each(e, |e| e.added_mass)),
+                added_mass_slope: F64x4(each(e, |e| e.added_mass_slope)),
+            };
         }
+        let found = each(eps.0, |e| self.locate(e));
+        let weights = lagrange(F64x4(each(found, |(i, t)| t - i as f64)));
+        // Each lane's four functions as one row of four (a node's four values lie together),
+        // then turned into four lane groups.
+        let f = each([0, 1, 2, 3], |lane| {
+            let (i, _) = found[lane];
+            interpolate(each(weights, |w| w.0[lane]), &self.nodes[i - 1..i + 3])
+        });
+        let f = each([0, 1, 2, 3], |c| F64x4(each(f, |f| f[c])));
+        tapered(f, eps.map(taper), eps.map(taper_slope))
+    }
+
+    /// The interval `i` of gap ratio `eps` (its nodes `i − 1 … i + 2`) and the position `t` on
+    /// the grid (`t − i` within the interval).
+    #[inline(always)]
+    fn locate(&self, eps: f64) -> (usize, f64) {
         let t = (1.0 / (1.0 + eps) - self.s0) * self.per_s;
-        // Nodes i − 1 … i + 2 around t (> 1 here: the cast is the floor), i ≥ 1 and i + 2
-        // within the table at both ends.
-        let i = (t as usize).clamp(1, TABLE_INTERVALS);
-        let u = t - i as f64;
-        // Lagrange weights of the nodes at −1, 0, 1, 2.
-        let (um, up, u2) = (u + 1.0, u - 1.0, u - 2.0);
-        const SIXTH: f64 = 1.0 / 6.0;
-        let weights = [-u * up * u2 * SIXTH, um * up * u2 * 0.5, -um * u * u2 * 0.5, um * u * up * SIXTH];
-        let mut f = [0.0; 4];
-        for (node, weight) in self.nodes[i - 1..i + 3].iter().zip(weights) {
-            for (f, value) in f.iter_mut().zip(node) {
-                *f += weight * value;
-            }
+        // Nodes i − 1 … i + 2 around t (> 1 in the table: the cast is the floor), i ≥ 1 and
+        // i + 2 within the table at both ends.
+        (((t as usize).clamp(1, TABLE_INTERVALS)), t)
+    }
+}
+
+/// The Lagrange weights of the nodes at −1, 0, 1, 2 of an interval at `u` within it
+/// (`u` ∈ [0, 1)), for the cubic through them. Of one value or a lane group, with the same
+/// operations.
+#[inline(always)]
+fn lagrange<R: Real>(u: R) -> [R; 4] {
+    let (um, up, u2) = (u + R::splat(1.0), u - R::splat(1.0), u - R::splat(2.0));
+    const SIXTH: f64 = 1.0 / 6.0;
+    [
+        (R::splat(0.0) - u) * up * u2 * SIXTH,
+        um * up * u2 * 0.5,
+        (R::splat(0.0) - um) * u * u2 * 0.5,
+        um * u * up * SIXTH,
+    ]
+}
+
+/// The four functions from the four nodes `rows` of an interval and their `weights`.
+#[inline(always)]
+fn interpolate(weights: [f64; 4], rows: &[[f64; 4]]) -> [f64; 4] {
+    let mut f = [0.0; 4];
+    for (weight, node) in weights.into_iter().zip(rows) {
+        for (f, value) in f.iter_mut().zip(node) {
+            *f += weight * value;
         }
-        let [normal, parallel, cm, cm_slope] = f;
-        WallExcess {
-            normal: normal * w,
-            parallel: parallel * w,
-            added_mass: cm * w,
-            added_mass_slope: cm_slope * w + cm * taper_slope(eps),
-        }
+    }
+    f
+}
+
+/// The tabulated functions `[λ⊥ − 1, λ∥ − 1, C_M − 1/2, dC_M/dε]` tapered by `w` (slope
+/// `w_slope`): zero where `w` is (the functions are finite and the slope's sum is then `+0`).
+#[inline(always)]
+fn tapered<R: Real>(f: [R; 4], w: R, w_slope: R) -> WallExcess<R> {
+    let [normal, parallel, cm, cm_slope] = f;
+    WallExcess {
+        normal: normal * w,
+        parallel: parallel * w,
+        added_mass: cm * w,
+        added_mass_slope: cm_slope * w + cm * w_slope,
     }
 }
 

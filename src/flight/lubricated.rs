@@ -12,9 +12,11 @@
 
 use super::Kernel;
 use super::Motion;
+use super::NonLinear;
 use super::StepCoefficients;
-use crate::effects::{LUBRICATION_RANGE, MemoryKernel, WallTable};
-use crate::integrate::{ForceField, phi12};
+use crate::effects::{LUBRICATION_RANGE, MemoryKernel, WallExcess, WallTable};
+use crate::integrate::{ForceField, Linear, phi12, phi12_lanes};
+use crate::numeric::lanes::{DVec3x4, F64x4, LANES, Real, Vector, each};
 use crate::walls::{Surface, Wall};
 use glam::DVec3;
 use std::sync::Arc;
@@ -61,45 +63,51 @@ fn may_reach(gap: f64, r: f64, speed: f64, accel: f64, h: f64) -> bool {
     gap - LUBRICATION_RANGE * r < (2.0 * speed + accel * h) * h
 }
 
-/// The frozen-coefficient linear acceleration of one state, split along the wall normal `n`.
+/// The frozen-coefficient linear acceleration of one state, split along the wall normal `n`:
+/// of one particle, or of a lane group of four ([`Kernel::near_wall_lanes`]), with the same
+/// operations.
 #[derive(Clone, Copy)]
-struct Split {
+struct Split<V: Vector> {
     /// Explicit normal acceleration (m/s²) and normal drag rate (1/s), fluid normal speed.
-    en: f64,
-    rate_n: f64,
-    un: f64,
+    en: V::Real,
+    rate_n: V::Real,
+    un: V::Real,
     /// Explicit tangential acceleration, tangential rate, fluid tangential velocity.
-    et: DVec3,
-    rate_t: f64,
-    ut: DVec3,
+    et: V,
+    rate_t: V::Real,
+    ut: V,
     /// The inertia far from walls over the normal inertia, `i∞ / i⊥` (1 without added mass):
     /// a force per unit of `i∞` moves the particle along `n` by this fraction of it.
-    normal_share: f64,
+    normal_share: V::Real,
 }
 
-impl Split {
+impl<V: Vector> Split<V> {
     /// Exact solution of `v' = e + rate (u − v)` per component over `dt`, from `(x, v)`.
-    fn step(&self, n: DVec3, x: DVec3, v: DVec3, dt: f64) -> (DVec3, DVec3) {
+    #[inline(always)]
+    fn step(&self, n: V, x: V, v: V, dt: f64) -> (V, V) {
         let (an, at) = self.parts(n, v);
-        let (p1n, p2n) = phi12(-self.rate_n * dt);
-        let (p1t, p2t) = phi12(-self.rate_t * dt);
+        let (p1n, p2n) = phi12_lanes(self.rate_n * -dt);
+        let (p1t, p2t) = phi12_lanes(self.rate_t * -dt);
         let x1 = x + v * dt + n * (an * p2n * dt * dt) + at * (p2t * dt * dt);
         let v1 = v + n * (an * p1n * dt) + at * (p1t * dt);
         (x1, v1)
     }
 
     /// The acceleration at velocity `v`: its normal component and its tangential part.
-    fn parts(&self, n: DVec3, v: DVec3) -> (f64, DVec3) {
+    #[inline(always)]
+    fn parts(&self, n: V, v: V) -> (V::Real, V) {
         let vn = v.dot(n);
-        let vt = v - vn * n;
+        let vt = v - n * vn;
         (self.en + self.rate_n * (self.un - vn), self.et + (self.ut - vt) * self.rate_t)
     }
+}
 
+impl Split<DVec3> {
     /// The same balance with the history force `−c (s + d a)` per unit of the inertia far
     /// from walls (docs/physics.md §10): `s` the memory's part (m/s^{3/2}), fixed, and `d`
     /// (s^½) the part that follows the acceleration `a` itself, an added inertia `c d`, which
     /// the normal direction shares by `i∞ / i⊥`.
-    fn with_history(mut self, n: DVec3, c: f64, s: DVec3, d: f64) -> Split {
+    fn with_history(mut self, n: DVec3, c: f64, s: DVec3, d: f64) -> Split<DVec3> {
         let cn = c * self.normal_share;
         let sn = s.dot(n);
         let (gn, gt) = (1.0 / (1.0 + cn * d), 1.0 / (1.0 + c * d));
@@ -170,10 +178,63 @@ impl Carried<'_> {
     }
 }
 
+/// What the split force of a particle (or of a lane group) needs of it besides its state.
+#[derive(Clone, Copy)]
+struct Body<R> {
+    /// Radius (m).
+    r: R,
+    /// Stokes drag rate `3πμd / (ρp V)` over the law's `f(Re)` ... per unit of `f`: the rate
+    /// the wall's excess multiplies (1/s).
+    stokes_rate: R,
+    /// The inertia density far from walls, `ρp + C_M∞ ρ` (kg/m³).
+    i_inf: R,
+}
+
+/// The split force on a body at velocity `v` with lubrication gap along `n`, from the force
+/// field's linearised acceleration `l` there and the wall's excess `ex` at that gap. The
+/// Stokes part of the drag grows by the wall's excess, added to the law's `f(Re)`
+/// (docs/physics.md §8: `f(Re) + λ − 1`, the film's flow being viscous whatever `Re`).
+#[inline(always)]
+fn split<V: Vector>(
+    added_density: f64,
+    body: &Body<V::Real>,
+    l: &Linear<V>,
+    v: V,
+    n: V,
+    ex: WallExcess<V::Real>,
+) -> Split<V> {
+    let i_n = body.i_inf + ex.added_mass * added_density;
+    let share = body.i_inf / i_n;
+    let vn = v.dot(n);
+    // −½ (dm/dh) v_n² / m: the potential flow's energy as the normal added mass changes.
+    let image = ex.added_mass_slope / body.r * (-0.5 * added_density) * vn * vn / i_n;
+    let en = l.explicit.dot(n) * share + image;
+    let un = l.u.dot(n);
+    Split {
+        en,
+        rate_n: (l.inv_tau + body.stokes_rate * ex.normal) * share,
+        un,
+        et: l.explicit - n * l.explicit.dot(n),
+        rate_t: l.inv_tau + body.stokes_rate * ex.parallel,
+        ut: l.u - n * un,
+        normal_share: share,
+    }
+}
+
+/// Where a lane of [`Kernel::near_wall_lanes`] ends up.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum NearWall {
+    /// No wall within reach in the step: the scene's integrator's flight stands.
+    Away,
+    /// Flown in one sub-step, to this state.
+    Flown(DVec3, DVec3),
+    /// It needs sub-steps (it crosses a tenth of its gap in the step): one at a time.
+    Substeps,
+}
+
 impl<M: Motion> Kernel<'_, M> {
-    /// The split force on a particle of kind `k`, radius `r`, at `(x, v)`, with lubrication gap
-    /// `h` along `n`. The Stokes part of the drag grows by the wall's excess, added to the law's
-    /// `f(Re)` (docs/physics.md §8: `f(Re) + λ − 1`, the film's flow being viscous whatever `Re`).
+    /// [`split`] for a particle of kind `k`, radius `r`, at `(x, v)`, with lubrication gap `h`
+    /// along `n`.
     fn split(
         &self,
         lub: &Lubrication,
@@ -181,26 +242,10 @@ impl<M: Motion> Kernel<'_, M> {
         (k, r): (usize, f64),
         (x, v): (DVec3, DVec3),
         (h, n): (f64, DVec3),
-    ) -> Split {
-        let l = field.eval(x, v);
-        let ex = lub.table.excess(h / r);
-        let stokes_rate = self.kind_drag_rate[k] / (4.0 * r * r);
-        let i_inf = lub.kind_inertia[k];
-        let i_n = i_inf + lub.added_density * ex.added_mass;
-        let vn = v.dot(n);
-        // −½ (dm/dh) v_n² / m: the potential flow's energy as the normal added mass changes.
-        let image = -0.5 * lub.added_density * (ex.added_mass_slope / r) * vn * vn / i_n;
-        let en = l.explicit.dot(n) * (i_inf / i_n) + image;
-        let un = l.u.dot(n);
-        Split {
-            en,
-            rate_n: (l.inv_tau + stokes_rate * ex.normal) * (i_inf / i_n),
-            un,
-            et: l.explicit - l.explicit.dot(n) * n,
-            rate_t: l.inv_tau + stokes_rate * ex.parallel,
-            ut: l.u - un * n,
-            normal_share: i_inf / i_n,
-        }
+    ) -> Split<DVec3> {
+        let body =
+            Body { r, stokes_rate: self.kind_drag_rate[k] / (4.0 * r * r), i_inf: lub.kind_inertia[k] };
+        split(lub.added_density, &body, &field.eval(x, v), v, n, lub.table.excess(h / r))
     }
 
     /// Free flight of a particle of kind `k` and radius `r` over `h` (s) from `(x, v)` when a
@@ -219,6 +264,78 @@ impl<M: Motion> Kernel<'_, M> {
         let within = may_reach(start.0, r, v.length(), 0.0, h)
             || may_reach(start.0, r, v.length(), field.eval(x, v).total(v).length(), h);
         within.then(|| self.substeps(lub, field, (k, r), (x, v), h, start, None))
+    }
+
+    /// [`Kernel::lubricated_flight`] of a lane group of four free particles near walls, of
+    /// kinds `k` and diameters `d`, from `(x, v)` over `h` (s), under `field` (the lane
+    /// group's, [`Kernel::field_lanes`]): the nearest walls and the reach test one lane at a
+    /// time, then the flight of those a wall is within reach of in lane form when one sub-step
+    /// takes each of them through the whole step (the common case away from the film: the
+    /// bead crosses less than a tenth of its gap in a step). Lane for lane the same bits as
+    /// [`Kernel::lubricated_flight`]; [`NearWall::Substeps`] for the lanes that need more
+    /// sub-steps. Without the effect, every lane is [`NearWall::Substeps`].
+    #[inline(always)]
+    pub fn near_wall_lanes(
+        &self,
+        field: &M::Field<DVec3x4>,
+        (k, d): ([u16; LANES], F64x4),
+        (x, v): ([DVec3; LANES], [DVec3; LANES]),
+        h: f64,
+    ) -> [NearWall; LANES] {
+        let Some(NonLinear::Lubrication(lub)) = &self.nonlinear else {
+            return [NearWall::Substeps; LANES];
+        };
+        let r = d * 0.5;
+        let walls =
+            each([0, 1, 2, 3], |i| nearest(self.walls, x[i], r.0[i], lub.kind_roughness[k[i] as usize]));
+        let (xs, vs) = (DVec3x4::from_array(x), DVec3x4::from_array(v));
+        let l0 = field.eval(xs, vs);
+        let speed = vs.length_squared().map(f64::sqrt);
+        let accel = l0.total(vs).length_squared().map(f64::sqrt);
+        let mut fate = [NearWall::Away; LANES];
+        let mut any = false;
+        for i in 0..LANES {
+            let Some((g, n)) = walls[i] else { continue };
+            let (r, speed) = (r.0[i], speed.0[i]);
+            if may_reach(g, r, speed, 0.0, h) || may_reach(g, r, speed, accel.0[i], h) {
+                // One sub-step for the whole step unless the normal speed crosses a tenth of
+                // the gap in it ([`Kernel::substeps`]' first choice of its length).
+                let one = h > 0.0 && v[i].dot(n).abs() * h <= GAP_FRACTION * g;
+                fate[i] = if one { NearWall::Flown(x[i], v[i]) } else { NearWall::Substeps };
+                any |= one;
+            }
+        }
+        if !any {
+            return fate;
+        }
+        // The lanes away from walls or left to the sub-steps go along with harmless values.
+        let walls = each(walls, |w| w.unwrap_or((1.0, DVec3::Z)));
+        let (g, n) = (F64x4(each(walls, |w| w.0)), DVec3x4::from_array(each(walls, |w| w.1)));
+        let body = Body {
+            r,
+            stokes_rate: F64x4(each(k, |k| self.kind_drag_rate[k as usize])) / (r * 4.0 * r),
+            i_inf: F64x4(each(k, |k| lub.kind_inertia[k as usize])),
+        };
+        let s0 = split(lub.added_density, &body, &l0, vs, n, lub.table.excess_lanes(g / r));
+        let (xm, vm) = s0.step(n, xs, vs, 0.5 * h);
+        // The gap at the midpoint, as [`Kernel::substeps`]' `gap_at(xm).max(1e-3 g)`.
+        let to_mid = (xm - xs).dot(n);
+        let gm = F64x4(each([0, 1, 2, 3], |i| (g.0[i] + to_mid.0[i]).max(0.0).max(1e-3 * g.0[i])));
+        let sm = split(lub.added_density, &body, &field.eval(xm, vm), vm, n, lub.table.excess_lanes(gm / r));
+        let (x1, v1) = sm.step(n, xs, vs, h);
+        let moved = (x1 - xs).dot(n);
+        let (x1, v1) = (x1.to_array(), v1.to_array());
+        for i in 0..LANES {
+            if let NearWall::Flown(..) = fate[i] {
+                // The sub-step's check of its gap change: failed, it is halved, one at a time.
+                fate[i] = if moved.0[i].abs() <= GAP_FRACTION * g.0[i] {
+                    NearWall::Flown(x1[i], v1[i])
+                } else {
+                    NearWall::Substeps
+                };
+            }
+        }
+        fate
     }
 
     /// The nearest wall, lubrication gap and normal, when the particle may come within the

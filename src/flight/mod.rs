@@ -16,6 +16,7 @@ mod motion;
 mod remembered;
 mod spin;
 
+pub use lubricated::NearWall;
 pub use motion::{Motion, Mover, StepFlow, WithMotion, dispatch};
 pub use remembered::StepCoefficients;
 

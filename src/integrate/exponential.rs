@@ -39,12 +39,26 @@ const INV_FACTORIAL: [f64; 11] = {
 /// terms reach 1e-17 at |z| = 0.1, where the closed form starts losing digits to cancellation.
 #[inline]
 fn phi12_series(z: f64) -> (f64, f64) {
-    let (mut phi1, mut phi2) = (INV_FACTORIAL[9], INV_FACTORIAL[10]);
+    series(z)
+}
+
+/// [`phi12_series`] of one value or of a lane group, with the same operations per lane.
+#[inline(always)]
+fn series<R: Real>(z: R) -> (R, R) {
+    let (mut phi1, mut phi2) = (R::splat(INV_FACTORIAL[9]), R::splat(INV_FACTORIAL[10]));
     for j in (0..9).rev() {
-        phi1 = phi1 * z + INV_FACTORIAL[j];
-        phi2 = phi2 * z + INV_FACTORIAL[j + 1];
+        phi1 = phi1 * z + R::splat(INV_FACTORIAL[j]);
+        phi2 = phi2 * z + R::splat(INV_FACTORIAL[j + 1]);
     }
     (phi1, phi2)
+}
+
+/// [`phi12`] of each lane, the same bits: the series in lane form when every lane takes it
+/// (the common case near a wall away from its film, where `|z|` is far below 0.1), else
+/// lane by lane.
+#[inline(always)]
+pub(crate) fn phi12_lanes<R: Real>(z: R) -> (R, R) {
+    if z.all(|z| z.abs() < 0.1) { series(z) } else { z.map2(phi12) }
 }
 
 #[inline]

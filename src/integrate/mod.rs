@@ -12,7 +12,7 @@ mod rk4;
 
 pub use euler::Euler;
 pub use exponential::Exponential;
-pub(crate) use exponential::phi12;
+pub(crate) use exponential::{phi12, phi12_lanes};
 pub use rk2::Rk2;
 pub use rk4::Rk4;
 

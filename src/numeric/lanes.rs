@@ -60,6 +60,8 @@ pub trait Vector: Lanes + Mul<<Self as Vector>::Real, Output = Self> {
     fn splat(v: DVec3) -> Self;
     /// `x² + y² + z²`, in glam's order.
     fn length_squared(self) -> Self::Real;
+    /// `x x' + y y' + z z'`, in glam's order.
+    fn dot(self, o: Self) -> Self::Real;
     /// `f` of every lane.
     fn map_points(self, f: impl Fn(DVec3) -> DVec3) -> Self;
     /// `f` of a single point or of a lane group, by [`PointMap::one`] or [`PointMap::four`].
@@ -248,6 +250,10 @@ impl Vector for DVec3 {
         DVec3::length_squared(self)
     }
     #[inline(always)]
+    fn dot(self, o: Self) -> f64 {
+        DVec3::dot(self, o)
+    }
+    #[inline(always)]
     fn map_points(self, f: impl Fn(DVec3) -> DVec3) -> Self {
         f(self)
     }
@@ -268,6 +274,10 @@ impl Vector for DVec3x4 {
     fn length_squared(self) -> F64x4 {
         // glam's `dot`: (x x + y y) + z z.
         self.x * self.x + self.y * self.y + self.z * self.z
+    }
+    #[inline(always)]
+    fn dot(self, o: Self) -> F64x4 {
+        self.x * o.x + self.y * o.y + self.z * o.z
     }
     #[inline(always)]
     fn map_points(self, f: impl Fn(DVec3) -> DVec3) -> Self {
@@ -295,6 +305,7 @@ mod tests {
         for i in 0..LANES {
             assert_eq!(got[i], (a[i] + b[i]) * 0.7 - b[i] * s.0[i]);
             assert_eq!(lengths[i], (a[i] - b[i]).length_squared());
+            assert_eq!(va.dot(vb).0[i], a[i].dot(b[i]));
         }
     }
 }

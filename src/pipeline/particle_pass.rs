@@ -4,8 +4,8 @@
 
 use crate::contact;
 use crate::effects::LUBRICATION_RANGE;
-use crate::flight::{Flight, Kernel, Motion, NO_MEMORY, Segment};
-use crate::numeric::lanes::{DVec3x4, F64x4, LANES};
+use crate::flight::{Flight, Kernel, Motion, NO_MEMORY, NearWall, Segment};
+use crate::numeric::lanes::{DVec3x4, F64x4, LANES, each};
 use crate::particles::{NO_WALL, Next, Particles, State};
 use crate::walls::Surface;
 use glam::DVec3;
@@ -197,36 +197,78 @@ fn free_chunk<M: Motion, const LUBRICATED: bool>(
     // Sum of every new coordinate: finite unless one is not (or, harmlessly, unless it
     // overflows), so one test per chunk instead of six per particle.
     let mut sum = 0.0;
-    // With wall lubrication, the few whose move comes within its range of a wall fly again,
-    // through the kernel, which looks for the wall (`Kernel::fly`); the rest keep the lane
-    // group's flight, which is what the kernel would give them too. Tested here, in the one
-    // pass over the moves that also finds the wall candidates: the near-wall set of the step.
+    // With wall lubrication, those whose move comes within its range of a wall (the
+    // near-wall set of the step, found here in the one pass over the moves) fly again, below;
+    // the rest keep the lane group's flight, which is what the kernel would give them too.
+    // The range's test is the wider: a move clear of it is clear of the walls too.
+    let mut near: Vec<usize> = Vec::new();
     for j in 0..c.pos.len() {
         if LUBRICATED {
             let reach = 0.5 * c.diameter[j] * (1.0 + LUBRICATION_RANGE);
+            let mut within = false;
             for w in flight.walls {
                 if w.shape.may_touch(c.pos[j], c.x1[j], reach) {
-                    refly(flight, &mut c, j, (t0, t1));
+                    within = true;
                     break;
                 }
             }
+            if within {
+                near.push(j);
+                continue;
+            }
+            let (x, xn, vn) = (c.pos[j], c.x1[j], c.v1[j]);
+            sum += (xn + vn).element_sum();
+            out.step_move = out.step_move.max((xn - x).length_squared());
+            continue;
         }
-        let (x, xn, vn, r) = (c.pos[j], c.x1[j], c.v1[j], 0.5 * c.diameter[j]);
-        sum += (xn + vn).element_sum();
-        // `contact::touches_wall` for a free particle, written out: calling it here (with
-        // the state a constant) made this loop half as fast. A plain loop, not `any`, whose
-        // closure is a call of its own in the AVX2 copy of this function (also half as fast).
-        for w in flight.walls {
-            if w.shape.may_touch(x, xn, r) {
-                out.candidates.push((c.base + j) as u32);
-                break;
+        sum += moved(flight, &c, j, &mut out);
+    }
+    if LUBRICATED && !near.is_empty() {
+        let groups = near.as_chunks::<LANES>();
+        for js in groups.0 {
+            let (k, d) = (each(*js, |j| c.kind[j]), F64x4(each(*js, |j| c.diameter[j])));
+            let field = flight.field_lanes(k, d);
+            let start = (each(*js, |j| c.pos[j]), each(*js, |j| c.vel[j]));
+            let fates = flight.near_wall_lanes(&field, (k, d), start, t1 - t0);
+            for (&j, fate) in js.iter().zip(fates) {
+                match fate {
+                    NearWall::Away => {}
+                    NearWall::Flown(x, v) => (c.x1[j], c.v1[j]) = (x, v),
+                    NearWall::Substeps => refly(flight, &mut c, j, (t0, t1)),
+                }
             }
         }
-        // Squared: one square root per step, not one per particle.
-        out.step_move = out.step_move.max((xn - x).length_squared());
+        for &j in groups.1 {
+            refly(flight, &mut c, j, (t0, t1));
+        }
+        for &j in &near {
+            sum += moved(flight, &c, j, &mut out);
+        }
+        // The near-wall candidates came after the others: index order again.
+        out.candidates.sort_unstable();
     }
     out.suspect = !sum.is_finite();
     out
+}
+
+/// Stage 3 (walls) for free particle `j` of a chunk, flown: it becomes a wall candidate when
+/// its move may touch a wall, and its move counts for the step's largest. Returns the sum of
+/// its new coordinates (finite unless one is not).
+#[inline(always)]
+fn moved<M: Motion>(flight: &Kernel<M>, c: &Columns, j: usize, out: &mut Chunk) -> f64 {
+    let (x, xn, vn, r) = (c.pos[j], c.x1[j], c.v1[j], 0.5 * c.diameter[j]);
+    // `contact::touches_wall` for a free particle, written out: calling it here (with
+    // the state a constant) made this loop half as fast. A plain loop, not `any`, whose
+    // closure is a call of its own in the AVX2 copy of this function (also half as fast).
+    for w in flight.walls {
+        if w.shape.may_touch(x, xn, r) {
+            out.candidates.push((c.base + j) as u32);
+            break;
+        }
+    }
+    // Squared: one square root per step, not one per particle.
+    out.step_move = out.step_move.max((xn - x).length_squared());
+    (xn + vn).element_sum()
 }
 
 /// Stage 2 again for free particle `j` of a chunk, whose move (straight, from the start to the

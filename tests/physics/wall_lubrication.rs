@@ -317,3 +317,40 @@ fn beads_thrown_into_a_box_corner_with_lubrication_stay_inside_and_never_gain_en
         assert!(contacts >= 3, "dt {dt}: only {contacts} contacts");
     }
 }
+
+/// Beads near a wall fly by lane groups of four (`Kernel::near_wall_lanes`) when they come
+/// several at once, and one at a time when alone: 21 beads from a fifth of a radius to twelve
+/// radii above the floor, some fast enough towards it to need sub-steps, some touching it in
+/// the run, end where each ends alone in the same scene, to the last bit.
+#[test]
+fn near_wall_beads_flown_by_lane_groups_end_where_each_ends_alone() {
+    let a = 1e-3;
+    let starts: Vec<(DVec3, DVec3)> = (0..21)
+        .map(|i| {
+            let gap = a * (0.2 + 0.6 * i as f64);
+            let speed = [-0.02, 0.01, -0.3, 0.0, -0.001, 0.05, -1.0][i % 7];
+            let x = DVec3::new(20.0 * a * i as f64, 0.0, a + H_R + gap);
+            (x, DVec3::new(0.01 * (i % 3) as f64, -0.005, speed))
+        })
+        .collect();
+    let run = |starts: &[(DVec3, DVec3)]| {
+        let mut sim = lubricated()
+            .diameter(2.0 * a)
+            .dt(1e-4)
+            .duration(3e-3)
+            .output_interval(3e-3)
+            .particles(starts)
+            .scene()
+            .simulation();
+        common::run_collect(&mut sim, 3e-3);
+        let p = &sim.world.particles;
+        (0..p.len()).map(|i| (p.id[i], p.pos[i], p.vel[i])).collect::<Vec<_>>()
+    };
+    let together = run(&starts);
+    assert_eq!(together.len(), starts.len());
+    for (i, start) in starts.iter().enumerate() {
+        let (_, x, v) = run(std::slice::from_ref(start))[0];
+        let &(_, xt, vt) = together.iter().find(|t| t.0 as usize == i).expect("every bead kept");
+        assert_eq!((xt, vt), (x, v), "bead {i}, from {start:?}");
+    }
+}
