@@ -183,8 +183,7 @@ impl Carried<'_> {
 struct Body<R> {
     /// Radius (m).
     r: R,
-    /// Stokes drag rate `3πμd / (ρp V)` over the law's `f(Re)` ... per unit of `f`: the rate
-    /// the wall's excess multiplies (1/s).
+    /// The Stokes drag rate, `f(Re) = 1` (1/s): what the wall's excess multiplies.
     stokes_rate: R,
     /// The inertia density far from walls, `ρp + C_M∞ ρ` (kg/m³).
     i_inf: R,

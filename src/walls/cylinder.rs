@@ -76,7 +76,9 @@ impl Surface for Cylinder {
         // The distance from the axis is largest at an end of a straight move.
         let reach = self.radius - r;
         let far = |c: DVec3| self.split(c).0.length_squared() >= reach * reach;
-        far(c0) || far(c1)
+        // A sphere wider than the column touches it anywhere (the lubrication's range, ten
+        // radii, is wider than a narrow column: squared, a negative reach would read as far).
+        reach <= 0.0 || far(c0) || far(c1)
     }
 }
 
@@ -147,5 +149,14 @@ mod tests {
         assert_eq!(cyl.gap(DVec3::new(5.0, 0.0, 3.0), 0.1).gap, f64::INFINITY);
         assert_eq!(cyl.gap(DVec3::new(5.0, 0.0, -1.0), 0.1).gap, f64::INFINITY);
         assert!(cyl.gap(DVec3::new(5.0, 0.0, 1.0), 0.1).gap < 0.0);
+    }
+
+    #[test]
+    fn a_sphere_wider_than_the_column_may_touch_it_even_on_the_axis() {
+        let cyl = Cylinder { base: DVec3::ZERO, axis: DVec3::Z, radius: 1.0, lo: 0.0, hi: 2.0 };
+        let on_axis = DVec3::new(0.0, 0.0, 1.0);
+        assert!(!cyl.may_touch(on_axis, on_axis, 0.5));
+        assert!(cyl.may_touch(on_axis, on_axis, 1.5));
+        assert!(cyl.may_touch(on_axis, on_axis, 3.0));
     }
 }
