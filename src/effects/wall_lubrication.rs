@@ -150,7 +150,8 @@ impl WallTable {
             return wall_excess(eps);
         }
         let (i, t) = self.locate(eps);
-        let f = interpolate(lagrange(t - i as f64), &self.nodes[i - 1..i + 3]);
+        let rows = &self.nodes[i - 1..i + 3];
+        let f = interpolate(lagrange(t - i as f64), |m, c| rows[m][c]);
         tapered(f, taper(eps), taper_slope(eps))
     }
 
@@ -168,14 +169,9 @@ impl WallTable {
             };
         }
         let found = each(eps.0, |e| self.locate(e));
+        let rows = each(found, |(i, _)| &self.nodes[i - 1..i + 3]);
         let weights = lagrange(F64x4(each(found, |(i, t)| t - i as f64)));
-        // Each lane's four functions as one row of four (a node's four values lie together),
-        // then turned into four lane groups.
-        let f = each([0, 1, 2, 3], |lane| {
-            let (i, _) = found[lane];
-            interpolate(each(weights, |w| w.0[lane]), &self.nodes[i - 1..i + 3])
-        });
-        let f = each([0, 1, 2, 3], |c| F64x4(each(f, |f| f[c])));
+        let f = interpolate(weights, |m, c| F64x4(each(rows, |row| row[m][c])));
         tapered(f, eps.map(taper), eps.map(taper_slope))
     }
 
@@ -205,13 +201,14 @@ fn lagrange<R: Real>(u: R) -> [R; 4] {
     ]
 }
 
-/// The four functions from the four nodes `rows` of an interval and their `weights`.
+/// The four functions from the `weights` of the four nodes of an interval (`node(m, c)`: node
+/// `m` of those four, function `c`). Of one value or a lane group, with the same operations.
 #[inline(always)]
-fn interpolate(weights: [f64; 4], rows: &[[f64; 4]]) -> [f64; 4] {
-    let mut f = [0.0; 4];
-    for (weight, node) in weights.into_iter().zip(rows) {
-        for (f, value) in f.iter_mut().zip(node) {
-            *f += weight * value;
+fn interpolate<R: Real>(weights: [R; 4], node: impl Fn(usize, usize) -> R) -> [R; 4] {
+    let mut f = [R::splat(0.0); 4];
+    for (m, weight) in weights.into_iter().enumerate() {
+        for (c, f) in f.iter_mut().enumerate() {
+            *f = *f + weight * node(m, c);
         }
     }
     f

@@ -55,15 +55,17 @@ const FACE_NORMALS: [DVec3; 6] = [
     DVec3::new(-0.0, -0.0, -1.0),
 ];
 
-/// The face of least distance, the first of them on a tie (`min_by` with `total_cmp` over the
-/// six faces, written out on the distances alone: the lubricated flight asks for it every step
-/// of every bead near a box's walls, and the iterator's closure was a call of its own).
+/// The face of least distance, the first of them on a tie: what `min_by` with `total_cmp` over
+/// the six faces gave, written out on the distances alone (the lubricated flight asks for it
+/// every step of every bead near a box's walls, and the iterator's closure was a call of its
+/// own). A plain `<`: the two differ only on NaN, which leaves face 0 either way, and on `−0`
+/// against `+0`, two faces at once at distance zero, which only a box of no width has.
 #[inline(always)]
 fn nearest_face(lo: DVec3, hi: DVec3) -> (f64, DVec3) {
     let dist = [lo.x, hi.x, lo.y, hi.y, lo.z, hi.z];
     let mut best = 0;
     for face in 1..6 {
-        if dist[face].total_cmp(&dist[best]).is_lt() {
+        if dist[face] < dist[best] {
             best = face;
         }
     }
