@@ -224,8 +224,10 @@ fn free_chunk<M: Motion, const LUBRICATED: bool>(
         sum += moved(flight, &c, j, &mut out);
     }
     if LUBRICATED && !near.is_empty() {
-        let groups = near.as_chunks::<LANES>();
-        for js in groups.0 {
+        // A flow whose lookups walk from each particle's own cell takes them one at a time, as
+        // it takes the others ([`Kernel::walks`]).
+        let by_lanes = if flight.walks() { 0 } else { near.len() / LANES * LANES };
+        for js in near[..by_lanes].as_chunks::<LANES>().0 {
             let (k, d) = (each(*js, |j| c.kind[j]), F64x4(each(*js, |j| c.diameter[j])));
             let field = flight.field_lanes(k, d);
             let start = (each(*js, |j| c.pos[j]), each(*js, |j| c.vel[j]));
@@ -238,7 +240,7 @@ fn free_chunk<M: Motion, const LUBRICATED: bool>(
                 }
             }
         }
-        for &j in groups.1 {
+        for &j in &near[by_lanes..] {
             refly(flight, &mut c, j, (t0, t1));
         }
         for &j in &near {
