@@ -17,9 +17,10 @@
 //! slip), whatever the scene's integrator: with history, free flight is this scheme.
 
 use super::lubricated::{Carried, Lubrication};
-use super::{Kernel, Motion, NO_MEMORY, Segment};
+use super::{Kernel, Motion, NO_MEMORY, NonLinear, Segment};
 use crate::effects::MemoryKernel;
-use crate::integrate::{ForceField, phi12};
+use crate::integrate::{ForceField, Linear, phi12};
+use crate::numeric::lanes::{DVec3x4, F64x4, LANES, Real, Vector, each};
 use glam::DVec3;
 use multiversion::multiversion;
 use wide::f64x4;
@@ -145,6 +146,12 @@ fn dot2(f: &[f64], a: &[f64], b: &[f64]) -> (f64, f64) {
 /// `(Σ_k a_k F_k, Σ_k b_k F_k)` over a particle's modes `f` (its numbers of the memory).
 #[multiversion(targets("x86_64+avx2"))]
 fn mode_sums(f: &[f64], a: &[f64], b: &[f64]) -> (DVec3, DVec3) {
+    mode_sums_inlined(f, a, b)
+}
+
+/// [`mode_sums`], inlined into a caller compiled for its own instruction set.
+#[inline(always)]
+fn mode_sums_inlined(f: &[f64], a: &[f64], b: &[f64]) -> (DVec3, DVec3) {
     let n = f.len() / 3;
     let (x, y, z) = (dot2(&f[..n], a, b), dot2(&f[n..2 * n], a, b), dot2(&f[2 * n..], a, b));
     (DVec3::new(x.0, y.0, z.0), DVec3::new(x.1, y.1, z.1))
@@ -173,6 +180,12 @@ fn moved_on(o: &mut [f64], f: &[f64], co: &StepCoefficients, a0: f64, da: f64) {
 /// (a1 − a0) h φ2`, from `start` (empty for a memory that starts empty).
 #[multiversion(targets("x86_64+avx2"))]
 fn modes_moved_on(co: &StepCoefficients, start: &[f64], a0: DVec3, da: DVec3, out: &mut [f64]) {
+    modes_moved_on_inlined(co, start, a0, da, out)
+}
+
+/// [`modes_moved_on`], inlined into a caller compiled for its own instruction set.
+#[inline(always)]
+fn modes_moved_on_inlined(co: &StepCoefficients, start: &[f64], a0: DVec3, da: DVec3, out: &mut [f64]) {
     let n = out.len() / 3;
     let (ox, rest) = out.split_at_mut(n);
     let (oy, oz) = rest.split_at_mut(n);
@@ -231,26 +244,115 @@ impl<M: Motion> Kernel<'_, M> {
             return self.substeps(lub, field, (k, r), (seg.x, seg.v), h, wall, Some(carried));
         }
         // Σ w_k F_k(0) and Σ w_k e^{−λ_k h} F_k(0): the old accelerations' force now and at h.
-        let (now, later) = if start.is_empty() {
+        let sums = if start.is_empty() {
             (DVec3::ZERO, DVec3::ZERO)
         } else {
             mode_sums(start, &kernel.sum.weights, &co.weight_decayed)
         };
         let c = mem.kind_rate[k] / r;
-        let inertia = 1.0 + c * kernel.short_weight;
-        let a0 = (l0.total(v0) - now * c) / inertia;
-        // The drag rate and the fluid velocity at a predicted end (second order needs them to
-        // O(h²)); the rest of the end's force balance is linear in a1.
-        let l1 = field.eval(x0 + v0 * h + a0 * (0.5 * h * h), v0 + a0 * h);
-        let rate = l1.inv_tau;
-        let rhs =
-            l1.explicit + (l1.u - v0 - a0 * (0.5 * h)) * rate - later * c - a0 * (c * (co.sum1 - co.sum2));
-        let a1 = rhs / (inertia + c * co.sum2 + 0.5 * rate * h);
+        let end = segment_end(field, (x0, v0), &l0, sums, c, (kernel.short_weight, co));
         if let Some(out) = out {
-            modes_moved_on(co, start, a0, a1 - a0, out);
+            modes_moved_on(co, start, end.a0, end.a1 - end.a0, out);
         }
-        let v1 = v0 + (a0 + a1) * (0.5 * h);
-        let x1 = x0 + v0 * h + (a0 * (1.0 / 3.0) + a1 * (1.0 / 6.0)) * (h * h);
-        (x1, v1)
+        (end.x1, end.v1)
     }
+
+    /// [`Kernel::remembered_flight`] of a lane group of four free particles, `first` to
+    /// `first + 3`, each flying the whole step of `h` (s) from its memory at the start of the
+    /// step, and writing its memory at the end into its `width` numbers of `out`: the same
+    /// operations lane by lane, so the same bits. Returns which lanes it flew and where they
+    /// end. A lane within the wall lubrication's reach of a wall is left to the sub-steps, one
+    /// at a time (not flown, its memory not written), and so is the whole group when `h` is not
+    /// the step's (`None`). Always inlined, so that its lanes compile with the instruction set of
+    /// the loop that calls it (and the ends are lanes, not an array of options, which went
+    /// through memory by parts, `perf annotate`).
+    #[inline(always)]
+    pub fn remembered_lanes(
+        &self,
+        field: &M::Field<DVec3x4>,
+        (k, d): ([u16; LANES], F64x4),
+        (x0, v0): (DVec3x4, DVec3x4),
+        (first, h): (usize, f64),
+        out: &mut [f64],
+    ) -> Option<([bool; LANES], DVec3x4, DVec3x4)> {
+        let Some(NonLinear::Memory(mem)) = &self.nonlinear else { return None };
+        let co = &mem.step;
+        if h != co.h {
+            return None;
+        }
+        let width = 3 * mem.kernel.modes();
+        let r = d * 0.5;
+        let l0 = field.eval(x0, v0);
+        let mut flown = [true; LANES];
+        if let Some((lub, _)) = &mem.lubrication {
+            let accel = l0.total(v0).length_squared().map(f64::sqrt);
+            let (x, v) = (x0.to_array(), v0.to_array());
+            for i in 0..LANES {
+                let (k, r) = (k[i] as usize, r.0[i]);
+                flown[i] = self.wall_in_reach(lub, (k, r), (x[i], v[i]), accel.0[i], h).is_none();
+            }
+            if !flown.contains(&true) {
+                return None;
+            }
+        }
+        let starts = &mem.start[first * width..(first + LANES) * width];
+        // Written out lane by lane, not in a loop or a closure (a call of its own, without the
+        // caller's instruction set): the sums then go into the lanes in registers. Through
+        // memory, the lanes' wide loads waited on the sums' narrow stores (`perf annotate`).
+        let (w, wd) = (&mem.kernel.sum.weights[..], &co.weight_decayed[..]);
+        let (s0, s1) =
+            (mode_sums_inlined(&starts[..width], w, wd), mode_sums_inlined(&starts[width..2 * width], w, wd));
+        let s2 = mode_sums_inlined(&starts[2 * width..3 * width], w, wd);
+        let s3 = mode_sums_inlined(&starts[3 * width..], w, wd);
+        let now = DVec3x4::from_array([s0.0, s1.0, s2.0, s3.0]);
+        let later = DVec3x4::from_array([s0.1, s1.1, s2.1, s3.1]);
+        let c = F64x4(each(k, |k| mem.kind_rate[k as usize])) / r;
+        let end = segment_end(field, (x0, v0), &l0, (now, later), c, (mem.kernel.short_weight, co));
+        let (a0, da) = (end.a0.to_array(), (end.a1 - end.a0).to_array());
+        for (i, (start, out)) in starts.chunks_exact(width).zip(out.chunks_exact_mut(width)).enumerate() {
+            if flown[i] {
+                modes_moved_on_inlined(co, start, a0[i], da[i], out);
+            }
+        }
+        Some((flown, end.x1, end.v1))
+    }
+}
+
+/// Where a free flight with memory ends over a segment, for one particle or a lane group.
+struct SegmentEnd<V> {
+    /// The acceleration at the start (m/s²).
+    a0: V,
+    /// The acceleration at the end (m/s²).
+    a1: V,
+    /// The position at the end (m).
+    x1: V,
+    /// The velocity at the end (m/s).
+    v1: V,
+}
+
+/// The force balance of a segment from `(x0, v0)`, where the force is `l0`, with the old
+/// accelerations' force `(now, later)` (`Σ w_k F_k(0)` and `Σ w_k e^{−λ_k h} F_k(0)`), the
+/// history rate `c` (s^−½), and the kernel's short-lag weight and the segment's coefficients
+/// `co`: `a0` needs no solve, the drag rate and the fluid velocity are taken at a predicted end
+/// (second order needs them to O(h²)), and the rest of the end's balance is linear in `a1`.
+/// Written once for one particle and for four lanes, so both give the same bits.
+#[inline(always)]
+fn segment_end<V: Vector, F: ForceField<V>>(
+    field: &F,
+    (x0, v0): (V, V),
+    l0: &Linear<V>,
+    (now, later): (V, V),
+    c: V::Real,
+    (short_weight, co): (f64, &StepCoefficients),
+) -> SegmentEnd<V> {
+    let h = co.h;
+    let inertia = V::Real::splat(1.0) + c * short_weight;
+    let a0 = (l0.total(v0) - now * c) / inertia;
+    let l1 = field.eval(x0 + v0 * h + a0 * (0.5 * h * h), v0 + a0 * h);
+    let rate = l1.inv_tau;
+    let rhs = l1.explicit + (l1.u - v0 - a0 * (0.5 * h)) * rate - later * c - a0 * (c * (co.sum1 - co.sum2));
+    let a1 = rhs / (inertia + c * co.sum2 + rate * 0.5 * h);
+    let v1 = v0 + (a0 + a1) * (0.5 * h);
+    let x1 = x0 + v0 * h + (a0 * (1.0 / 3.0) + a1 * (1.0 / 6.0)) * (h * h);
+    SegmentEnd { a0, a1, x1, v1 }
 }

@@ -51,7 +51,9 @@ pub trait Real: Lanes + Mul<Output = Self> + Div<Output = Self> {
 }
 
 /// A 3-vector per lane.
-pub trait Vector: Lanes + Mul<<Self as Vector>::Real, Output = Self> {
+pub trait Vector:
+    Lanes + Mul<<Self as Vector>::Real, Output = Self> + Div<<Self as Vector>::Real, Output = Self>
+{
     /// The matching real number per lane.
     type Real: Real;
     /// The zero vector.
@@ -238,6 +240,14 @@ impl Mul<F64x4> for DVec3x4 {
     }
 }
 
+impl Div<F64x4> for DVec3x4 {
+    type Output = Self;
+    #[inline(always)]
+    fn div(self, s: F64x4) -> Self {
+        DVec3x4 { x: self.x / s, y: self.y / s, z: self.z / s }
+    }
+}
+
 impl Vector for DVec3 {
     type Real = f64;
     const ZERO: Self = DVec3::ZERO;
@@ -301,9 +311,11 @@ mod tests {
         assert_eq!(va.to_array(), a);
         let s = F64x4([0.5, -1.0, 3.0, 1e-3]);
         let got = ((va + vb) * 0.7 - vb * s).to_array();
+        let divided = (va / s).to_array();
         let lengths = (va - vb).length_squared().0;
         for i in 0..LANES {
             assert_eq!(got[i], (a[i] + b[i]) * 0.7 - b[i] * s.0[i]);
+            assert_eq!(divided[i], a[i] / s.0[i]);
             assert_eq!(lengths[i], (a[i] - b[i]).length_squared());
             assert_eq!(va.dot(vb).0[i], a[i].dot(b[i]));
         }

@@ -87,11 +87,16 @@ pub(crate) fn run<M: Motion>(
                 }
             })
             .collect(),
-        // With the history effect every chunk goes one particle at a time and writes each
-        // particle's memory at t1.
+        // With the history effect every particle's memory at t1 is written too.
         Some(width) => columns
             .zip(next.memory.par_chunks_mut(CHUNK * width))
-            .map(|(cols, out)| mixed_chunk(flight, cols, t0, t1, Remembering { out, width }))
+            .map(|(cols, out)| {
+                if cols.state.iter().zip(cols.release_time).all(|(&s, &t)| s == State::Free && t <= t0) {
+                    remembering_free_chunk(flight, cols, t0, t1, Remembering { out, width })
+                } else {
+                    mixed_chunk(flight, cols, t0, t1, Remembering { out, width })
+                }
+            })
             .collect(),
     };
     wall_candidates.clear();
@@ -248,6 +253,72 @@ fn free_chunk<M: Motion, const LUBRICATED: bool>(
         }
         // The near-wall candidates came after the others: index order again.
         out.candidates.sort_unstable();
+    }
+    out.suspect = !sum.is_finite();
+    out
+}
+
+/// [`free_chunk`] with the history effect: a chunk of free particles, released (if ever) before
+/// `t0`, each flying the whole step from its own memory and writing its memory at `t1`, by lane
+/// groups of four where that pays ([`Kernel::remembered_lanes`]), the rest one at a time (those
+/// left over, and those the lanes leave to wall lubrication's sub-steps): the same operations
+/// either way, so the same bits.
+#[multiversion(targets("x86_64+avx2"))]
+fn remembering_free_chunk<M: Motion>(
+    flight: &Kernel<M>,
+    c: Columns,
+    t0: f64,
+    t1: f64,
+    rec: Remembering,
+) -> Chunk {
+    let (h, width) = (t1 - t0, rec.width);
+    let wide = matches!(selected_target!().suggested_simd_width::<f64>(), Some(w) if w >= LANES);
+    let lanes_pay = (M::LANE_GROUPS || wide) && !flight.walks();
+    let by_lanes = if lanes_pay { c.pos.len() / LANES * LANES } else { 0 };
+    let mut alone: Vec<usize> = Vec::new();
+    for first in (0..by_lanes).step_by(LANES) {
+        let lane = |i: usize| first + i;
+        let (k, d) =
+            (each([0, 1, 2, 3], |i| c.kind[lane(i)]), F64x4(each([0, 1, 2, 3], |i| c.diameter[lane(i)])));
+        let (x, v) = (each([0, 1, 2, 3], |i| c.pos[lane(i)]), each([0, 1, 2, 3], |i| c.vel[lane(i)]));
+        let field = flight.field_lanes(k, d);
+        let out = &mut rec.out[first * width..(first + LANES) * width];
+        let starts = (DVec3x4::from_array(x), DVec3x4::from_array(v));
+        match flight.remembered_lanes(&field, (k, d), starts, (c.base + first, h), out) {
+            Some((flown, x1, v1)) => {
+                let (x1, v1) = (x1.to_array(), v1.to_array());
+                for i in 0..LANES {
+                    if flown[i] {
+                        (c.x1[first + i], c.v1[first + i]) = (x1[i], v1[i]);
+                    } else {
+                        alone.push(first + i);
+                    }
+                }
+            }
+            None => alone.extend(first..first + LANES),
+        }
+    }
+    alone.extend(by_lanes..c.pos.len());
+    for j in alone {
+        let start = Segment {
+            t: t0,
+            x: c.pos[j],
+            v: c.vel[j],
+            state: State::Free,
+            wall: NO_WALL,
+            memory: (c.base + j) as u32,
+        };
+        let out = &mut rec.out[j * width..(j + 1) * width];
+        let f = flight.free_flight_remembering(start, (c.kind[j] as usize, c.diameter[j]), t1, out);
+        (c.x1[j], c.v1[j]) = (f.x, f.v);
+    }
+    c.s1.fill(State::Free);
+    c.w1.fill(NO_WALL);
+    // 3. (walls)
+    let mut out = Chunk::default();
+    let mut sum = 0.0;
+    for j in 0..c.pos.len() {
+        sum += moved(flight, &c, j, &mut out);
     }
     out.suspect = !sum.is_finite();
     out
