@@ -118,9 +118,10 @@ pub struct Plan<'a> {
 
 /// [`run`], from a checkpoint's position and taking checkpoints as `plan` says. A checkpoint is
 /// taken after a whole step, once the sinks have its events, when one is due
-/// ([`Checkpoints::due`]), and when `stop` ends the run: then before the last frame, so that a
-/// resumed run, which cuts the files at the checkpoint, writes the files of a run never
-/// stopped. A checkpoint that cannot be written stops the run as an output error does.
+/// ([`Checkpoints::due`]), and when `stop` ends the run: within an interval, before the stop's
+/// last frame, so that a resumed run, which cuts the files at the checkpoint, writes the files
+/// of a run never stopped; at a frame (a signal during its write), after it. A checkpoint that
+/// cannot be written stops the run as an output error does.
 pub fn run_plan(
     sim: &mut Simulation,
     plan: Plan<'_>,
@@ -137,6 +138,23 @@ pub fn run_plan(
     let mut at =
         from.unwrap_or(RunPosition { lost_reported: sim.record.lost.len() as u64, ..Default::default() });
     let wall_before = at.wall_time;
+    // Takes a checkpoint when this process would (`due`) or another rank would: all together.
+    let checkpoint_if = |due: bool,
+                         steps: &mut dyn Steps,
+                         sim: &mut Simulation,
+                         checkpoints: &mut Option<&mut Checkpoints>,
+                         at: &mut RunPosition,
+                         sinks: &mut [&mut dyn Sink]|
+     -> Result<(), OutputError> {
+        if steps.checkpointing(due) {
+            steps.before_checkpoint(sim);
+            if let Some(c) = checkpoints.as_deref_mut() {
+                at.wall_time = wall_before + start.elapsed().as_secs_f64();
+                c.take(sim, *at, sinks)?;
+            }
+        }
+        Ok(())
+    };
     let result = (|| {
         // A resumed run stands either just after frame `k` (at a frame) or on its way to it.
         let mut on_the_way = from.is_some_and(|p| !p.at_frame);
@@ -153,18 +171,17 @@ pub fn run_plan(
                 frame_written = false;
                 at.at_frame = true;
                 if sim.world.time >= duration {
-                    if steps.checkpointing(checkpoints.as_deref().is_some_and(Checkpoints::periodic)) {
-                        steps.before_checkpoint(sim);
-                        if let Some(c) = checkpoints.as_deref_mut() {
-                            at.wall_time = wall_before + start.elapsed().as_secs_f64();
-                            c.take(sim, at, sinks)?;
-                        }
-                    }
+                    let due = checkpoints.as_deref().is_some_and(Checkpoints::periodic);
+                    checkpoint_if(due, steps, sim, &mut checkpoints, &mut at, sinks)?;
                     return Ok(false);
                 }
-                // A signal that came before the first step (while the scene loaded) stops the
-                // run here, with the frame just written as its last.
+                // A signal that came before the first step (while the scene loaded) or while
+                // this frame was written stops the run here, with the frame as its last. The
+                // checkpoint a stop takes is taken after it: a run resumed from it goes on
+                // without writing the frame again (a signal landing in the frame's write once
+                // left no checkpoint at all).
                 if steps.stopping(stop.load(Ordering::Relaxed)) {
+                    checkpoint_if(checkpoints.is_some(), steps, sim, &mut checkpoints, &mut at, sinks)?;
                     return Ok(true);
                 }
                 at.k += 1;
@@ -193,13 +210,8 @@ pub fn run_plan(
                 // stop signal, with a last frame; the caller reports `record.left_field`.
                 let stopping =
                     steps.stopping(stop.load(Ordering::Relaxed) || sim.record.left_field.is_some());
-                if steps.checkpointing(checkpoints.as_deref().is_some_and(|c| stopping || c.due(sim))) {
-                    steps.before_checkpoint(sim);
-                    if let Some(c) = checkpoints.as_deref_mut() {
-                        at.wall_time = wall_before + start.elapsed().as_secs_f64();
-                        c.take(sim, at, sinks)?;
-                    }
-                }
+                let due = checkpoints.as_deref().is_some_and(|c| stopping || c.due(sim));
+                checkpoint_if(due, steps, sim, &mut checkpoints, &mut at, sinks)?;
                 if stopping {
                     steps.before_frame(sim);
                     for s in sinks.iter_mut() {

@@ -310,6 +310,78 @@ fn a_column_stopped_by_sigterm_and_resumed_ends_as_the_run_never_stopped() {
     assert_eq!(summary(&whole), summary(&stopped));
 }
 
+/// Raises the stop flag while frame `at` is written, as a signal landing in that write would.
+struct StopInFrame<'a> {
+    frames: u64,
+    at: u64,
+    stop: &'a AtomicBool,
+}
+
+impl wetbounce::output::Sink for StopInFrame<'_> {
+    fn frame(
+        &mut self,
+        _sim: &wetbounce::pipeline::Simulation,
+    ) -> Result<(), wetbounce::output::OutputError> {
+        if self.frames == self.at {
+            self.stop.store(true, std::sync::atomic::Ordering::Relaxed);
+        }
+        self.frames += 1;
+        Ok(())
+    }
+}
+
+/// A stop asked while a frame is written (the run stops at that frame, no step after it) still
+/// takes its checkpoint, after the frame; resumed from it, the column ends with the files of the
+/// run never stopped. (Such a stop once left no checkpoint: the SIGTERM test above failed when
+/// its signal landed in a frame's write.)
+#[test]
+fn a_stop_asked_while_a_frame_is_written_takes_its_checkpoint_there_and_resumes_exactly() {
+    let dir = tempfile::tempdir().unwrap();
+    let (whole, stopped) = (dir.path().join("whole"), dir.path().join("stopped"));
+    let source = scene("column", Some(0.3));
+    run_whole("column", &source, &[Format::Csv], 10.0, &whole);
+    let (path, text) = &source;
+    let options = LoadOptions { allow_long_run: true, allow_large_memory: true };
+    let mut scene = Scene::from_str_with(text, path, options).unwrap();
+    let folder = Folder {
+        out: &stopped,
+        stem: "column",
+        scene_path: path,
+        scene_source: text,
+        max_spheres: 1000,
+        rotation: scene.setup.physics.rotation,
+    };
+    let saved = SavedScene {
+        path: path.clone(),
+        given: path.clone(),
+        source: text.clone(),
+        output_interval: scene.output_interval,
+        formats: vec!["csv".into()],
+        stem: "column".into(),
+        max_spheres: 1000,
+    };
+    // No periodic checkpoint: only the stop's.
+    let policy = CheckpointPolicy { every: None, wall: None, keep: 2 };
+    let checkpoints = Checkpoints::new(policy, &stopped.join("checkpoints"), saved, 0.0);
+    let mut driver = Driver::new(Some(&folder), &[Format::Csv], scene.duration, scene.output_interval)
+        .unwrap()
+        .checkpointing(checkpoints);
+    let mut sim = scene.take_simulation().unwrap();
+    let stop = AtomicBool::new(false);
+    let mut sink = StopInFrame { frames: 0, at: 3, stop: &stop };
+    let result = pool(1).install(|| driver.run(&mut sim, vec![&mut sink], &stop));
+    let ended = driver.finish(&sim, result, None);
+    assert!(ended.errors.is_empty(), "{:?}", ended.errors);
+    assert!(sim.world.time < 0.3, "stopped at {} s", sim.world.time);
+    let checkpoints = checkpoint::list(&stopped.join("checkpoints"));
+    assert_eq!(checkpoints.len(), 1, "one checkpoint, taken at the stop");
+    let (_, at) = checkpoint::read(&checkpoints[0]).unwrap();
+    assert_eq!(at.world.time, sim.world.time, "the checkpoint is the stop's frame");
+    let resumed = dir.path().join("resumed");
+    resume_into(&checkpoints[0], &resumed, 2);
+    assert_same_outputs(&whole, &resumed, "column stopped in a frame's write");
+}
+
 proptest::proptest! {
     #![proptest_config(proptest::prelude::ProptestConfig { cases: 8, ..Default::default() })]
 
