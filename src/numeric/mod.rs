@@ -1,7 +1,8 @@
-//! Arithmetic below the physics: four particles at once ([`lanes`]) and `x^p` for a fixed `p`
-//! by tables ([`FixedPower`]). This room names no other room of the engine; the correlations,
+//! Arithmetic below the physics: four particles at once ([`lanes`]), sums along one particle's
+//! array by lanes of four ([`lane_sums`]), and `x^p` for a fixed `p` by tables ([`FixedPower`]). This room names no other room of the engine; the correlations,
 //! flows and integrators above it are written once over its [`lanes::Vector`].
 
+pub mod lane_sums;
 pub mod lanes;
 mod power;
 

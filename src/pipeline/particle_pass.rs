@@ -5,6 +5,7 @@
 use crate::contact;
 use crate::effects::LUBRICATION_RANGE;
 use crate::flight::{Flight, Kernel, Motion, NO_MEMORY, NearWall, Segment};
+use crate::numeric::lane_sums::Avx;
 use crate::numeric::lanes::{DVec3x4, F64x4, LANES, each};
 use crate::particles::{NO_WALL, Next, Particles, State};
 use crate::walls::Surface;
@@ -275,6 +276,8 @@ fn remembering_free_chunk<M: Motion>(
     let wide = matches!(selected_target!().suggested_simd_width::<f64>(), Some(w) if w >= LANES);
     let lanes_pay = (M::LANE_GROUPS || wide) && !flight.walks();
     let by_lanes = if lanes_pay { c.pos.len() / LANES * LANES } else { 0 };
+    // The sums over each bead's modes in 256-bit vectors in the AVX2 copy.
+    let avx = Avx::of(selected_target!());
     let mut alone: Vec<usize> = Vec::new();
     for first in (0..by_lanes).step_by(LANES) {
         let lane = |i: usize| first + i;
@@ -284,7 +287,7 @@ fn remembering_free_chunk<M: Motion>(
         let field = flight.field_lanes(k, d);
         let out = &mut rec.out[first * width..(first + LANES) * width];
         let starts = (DVec3x4::from_array(x), DVec3x4::from_array(v));
-        match flight.remembered_lanes(&field, (k, d), starts, (c.base + first, h), out) {
+        match flight.remembered_lanes(&field, (k, d), starts, (c.base + first, h), out, avx) {
             Some((flown, x1, v1)) => {
                 let (x1, v1) = (x1.to_array(), v1.to_array());
                 for i in 0..LANES {
