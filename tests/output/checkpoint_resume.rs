@@ -44,11 +44,26 @@ fn pool(threads: usize) -> rayon::ThreadPool {
 /// returns the checkpoints, oldest first.
 fn run_whole(
     name: &str,
-    (path, text): &(PathBuf, String),
+    source: &(PathBuf, String),
     formats: &[Format],
     every: f64,
     out: &Path,
 ) -> Vec<PathBuf> {
+    let policy = CheckpointPolicy { every: Some(every), wall: None, keep: 100_000 };
+    run_checkpointed(name, source, formats, policy, out, None).1
+}
+
+/// Runs the scene into `out` with `formats` and checkpoints as `policy` says, on one thread;
+/// with `stop_in_frame`, a stop is asked while that frame is written ([`StopInFrame`]).
+/// Returns the time it stopped at and the checkpoints, oldest first.
+fn run_checkpointed(
+    name: &str,
+    (path, text): &(PathBuf, String),
+    formats: &[Format],
+    policy: CheckpointPolicy,
+    out: &Path,
+    stop_in_frame: Option<u64>,
+) -> (f64, Vec<PathBuf>) {
     let options = LoadOptions { allow_long_run: true, allow_large_memory: true };
     let mut scene = Scene::from_str_with(text, path, options).unwrap();
     let folder = Folder {
@@ -68,16 +83,20 @@ fn run_whole(
         stem: name.to_string(),
         max_spheres: 1000,
     };
-    let policy = CheckpointPolicy { every: Some(every), wall: None, keep: 100_000 };
     let checkpoints = Checkpoints::new(policy, &out.join("checkpoints"), saved, 0.0);
     let mut driver = Driver::new(Some(&folder), formats, scene.duration, scene.output_interval)
         .unwrap()
         .checkpointing(checkpoints);
     let mut sim = scene.take_simulation().unwrap();
-    let result = pool(1).install(|| driver.run(&mut sim, vec![], &AtomicBool::new(false)));
+    let stop = AtomicBool::new(false);
+    let mut sink = stop_in_frame.map(|at| StopInFrame { frames: 0, at, stop: &stop });
+    let result = pool(1).install(|| {
+        let extra: Vec<&mut dyn wetbounce::output::Sink> = sink.iter_mut().map(|s| s as _).collect();
+        driver.run(&mut sim, extra, &stop)
+    });
     let ended = driver.finish(&sim, result, None);
     assert!(ended.errors.is_empty(), "{:?}", ended.errors);
-    checkpoint::list(&out.join("checkpoints"))
+    (sim.world.time, checkpoint::list(&out.join("checkpoints")))
 }
 
 /// Resumes `from` (a checkpoint of the run in its folder) into `out` on `threads` threads.
@@ -340,43 +359,13 @@ fn a_stop_asked_while_a_frame_is_written_takes_its_checkpoint_there_and_resumes_
     let (whole, stopped) = (dir.path().join("whole"), dir.path().join("stopped"));
     let source = scene("column", Some(0.3));
     run_whole("column", &source, &[Format::Csv], 10.0, &whole);
-    let (path, text) = &source;
-    let options = LoadOptions { allow_long_run: true, allow_large_memory: true };
-    let mut scene = Scene::from_str_with(text, path, options).unwrap();
-    let folder = Folder {
-        out: &stopped,
-        stem: "column",
-        scene_path: path,
-        scene_source: text,
-        max_spheres: 1000,
-        rotation: scene.setup.physics.rotation,
-    };
-    let saved = SavedScene {
-        path: path.clone(),
-        given: path.clone(),
-        source: text.clone(),
-        output_interval: scene.output_interval,
-        formats: vec!["csv".into()],
-        stem: "column".into(),
-        max_spheres: 1000,
-    };
     // No periodic checkpoint: only the stop's.
     let policy = CheckpointPolicy { every: None, wall: None, keep: 2 };
-    let checkpoints = Checkpoints::new(policy, &stopped.join("checkpoints"), saved, 0.0);
-    let mut driver = Driver::new(Some(&folder), &[Format::Csv], scene.duration, scene.output_interval)
-        .unwrap()
-        .checkpointing(checkpoints);
-    let mut sim = scene.take_simulation().unwrap();
-    let stop = AtomicBool::new(false);
-    let mut sink = StopInFrame { frames: 0, at: 3, stop: &stop };
-    let result = pool(1).install(|| driver.run(&mut sim, vec![&mut sink], &stop));
-    let ended = driver.finish(&sim, result, None);
-    assert!(ended.errors.is_empty(), "{:?}", ended.errors);
-    assert!(sim.world.time < 0.3, "stopped at {} s", sim.world.time);
-    let checkpoints = checkpoint::list(&stopped.join("checkpoints"));
+    let (time, checkpoints) = run_checkpointed("column", &source, &[Format::Csv], policy, &stopped, Some(3));
+    assert!(time < 0.3, "stopped at {time} s");
     assert_eq!(checkpoints.len(), 1, "one checkpoint, taken at the stop");
     let (_, at) = checkpoint::read(&checkpoints[0]).unwrap();
-    assert_eq!(at.world.time, sim.world.time, "the checkpoint is the stop's frame");
+    assert_eq!(at.world.time, time, "the checkpoint is the stop's frame");
     let resumed = dir.path().join("resumed");
     resume_into(&checkpoints[0], &resumed, 2);
     assert_same_outputs(&whole, &resumed, "column stopped in a frame's write");
