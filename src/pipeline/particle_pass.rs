@@ -10,7 +10,10 @@ use crate::numeric::lanes::{DVec3x4, F64x4, LANES, each};
 use crate::particles::{NO_WALL, Next, Particles, State};
 use crate::walls::Surface;
 use glam::DVec3;
-use multiversion::{multiversion, target::selected_target};
+use multiversion::{
+    multiversion,
+    target::{TargetFeatures, selected_target},
+};
 use rayon::prelude::*;
 
 /// Particles per parallel task: large enough to hide the scheduling, small enough to share 2
@@ -175,11 +178,7 @@ fn free_chunk<M: Motion, const LUBRICATED: bool>(
     // 2. alone first, by lane groups of four particles where that pays (`crate::numeric::lanes`), the
     // few left over one by one: the same operations either way, so the same bits.
     let h = t1 - t0;
-    // Lane groups pay for every law where one vector instruction holds a whole group (AVX2),
-    // and otherwise for the laws that say so.
-    let wide = matches!(selected_target!().suggested_simd_width::<f64>(), Some(w) if w >= LANES);
-    let lanes_pay = (M::LANE_GROUPS || wide) && !flight.walks();
-    let by_lanes = if lanes_pay { c.pos.len() / LANES * LANES } else { 0 };
+    let by_lanes = by_lanes(flight, c.pos.len(), selected_target!());
     let (pos, vel, kind, diameter) = (
         c.pos[..by_lanes].as_chunks::<LANES>().0,
         c.vel[..by_lanes].as_chunks::<LANES>().0,
@@ -273,9 +272,7 @@ fn remembering_free_chunk<M: Motion>(
     rec: Remembering,
 ) -> Chunk {
     let (h, width) = (t1 - t0, rec.width);
-    let wide = matches!(selected_target!().suggested_simd_width::<f64>(), Some(w) if w >= LANES);
-    let lanes_pay = (M::LANE_GROUPS || wide) && !flight.walks();
-    let by_lanes = if lanes_pay { c.pos.len() / LANES * LANES } else { 0 };
+    let by_lanes = by_lanes(flight, c.pos.len(), selected_target!());
     // The sums over each bead's modes in 256-bit vectors in the AVX2 copy.
     let avx = Avx::of(selected_target!());
     let mut alone: Vec<usize> = Vec::new();
@@ -325,6 +322,16 @@ fn remembering_free_chunk<M: Motion>(
     }
     out.suspect = !sum.is_finite();
     out
+}
+
+/// How many of a chunk's `n` particles go by lane groups, in a copy compiled for `target`: as
+/// many whole groups as there are where lane groups pay, none where they do not. They pay for
+/// every law where one vector instruction holds a whole group (AVX2), and otherwise for the
+/// laws that say so; not in a flow whose lookups walk from each particle's cell.
+#[inline(always)]
+fn by_lanes<M: Motion>(flight: &Kernel<M>, n: usize, target: TargetFeatures) -> usize {
+    let wide = matches!(target.suggested_simd_width::<f64>(), Some(w) if w >= LANES);
+    if (M::LANE_GROUPS || wide) && !flight.walks() { n / LANES * LANES } else { 0 }
 }
 
 /// Stage 3 (walls) for free particle `j` of a chunk, flown: it becomes a wall candidate when
