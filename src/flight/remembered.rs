@@ -20,7 +20,7 @@ use super::lubricated::{Carried, Lubrication};
 use super::{Kernel, Motion, NO_MEMORY, NonLinear, Segment};
 use crate::effects::MemoryKernel;
 use crate::integrate::{ForceField, Linear, phi12};
-use crate::numeric::lane_sums::{Avx, lane_sums};
+use crate::numeric::lane_sums::{Avx, lane_sums, lane_update};
 use crate::numeric::lanes::{DVec3x4, F64x4, LANES, Real, Vector, each};
 use glam::DVec3;
 use multiversion::{multiversion, target::selected_target};
@@ -130,14 +130,14 @@ fn dot2(f: &[f64], a: &[f64], b: &[f64], avx: Avx) -> (f64, f64) {
     let lanes = |s: [f64; 4]| (s[0] + s[1]) + (s[2] + s[3]);
     let (mut ta, mut tb) = (lanes(sa), lanes(sb));
     for ((f, a), b) in fr.iter().zip(ar).zip(br) {
-        ta += a * f;
-        tb += b * f;
+        ta = a.mul_add(*f, ta);
+        tb = b.mul_add(*f, tb);
     }
     (ta, tb)
 }
 
 /// `(Σ_k a_k F_k, Σ_k b_k F_k)` over a particle's modes `f` (its numbers of the memory).
-#[multiversion(targets("x86_64+avx2"))]
+#[multiversion(targets("x86_64+avx2+fma"))]
 fn mode_sums(f: &[f64], a: &[f64], b: &[f64]) -> (DVec3, DVec3) {
     mode_sums_inlined(f, a, b, Avx::of(selected_target!()))
 }
@@ -150,44 +150,31 @@ fn mode_sums_inlined(f: &[f64], a: &[f64], b: &[f64], avx: Avx) -> (DVec3, DVec3
     (DVec3::new(x.0, y.0, z.0), DVec3::new(x.1, y.1, z.1))
 }
 
-/// One component of [`modes_moved_on`]: `o = f e + a0 p1 + da p2`, or without `f` (empty).
-/// Plain loops over slices of one length: no bounds checks, and each number on its own, so
-/// the compiler's own vectorisation (four lanes in the AVX2 copy) keeps every bit. (By lane
-/// groups of four in AVX, as the sums, it took 31 more instructions per particle-step than the
-/// compiler's loops, unrolled four times: 2279M against 2217M at 200 steps.)
-#[inline(always)]
-fn moved_on(o: &mut [f64], f: &[f64], co: &StepCoefficients, a0: f64, da: f64) {
-    let n = o.len();
-    let (p1, p2) = (&co.phi1[..n], &co.phi2[..n]);
-    if f.is_empty() {
-        for i in 0..n {
-            o[i] = a0 * p1[i] + da * p2[i];
-        }
-    } else {
-        let (f, e) = (&f[..n], &co.decay[..n]);
-        for i in 0..n {
-            o[i] = f[i] * e[i] + a0 * p1[i] + da * p2[i];
-        }
-    }
-}
-
 /// The modes at the end of a segment, into `out`: `F_k(h) = e^{−λ_k h} F_k(0) + a0 h φ1 +
 /// (a1 − a0) h φ2`, from `start` (empty for a memory that starts empty).
-#[multiversion(targets("x86_64+avx2"))]
+#[multiversion(targets("x86_64+avx2+fma"))]
 fn modes_moved_on(co: &StepCoefficients, start: &[f64], a0: DVec3, da: DVec3, out: &mut [f64]) {
-    modes_moved_on_inlined(co, start, a0, da, out)
+    modes_moved_on_inlined(co, start, a0, da, out, Avx::of(selected_target!()))
 }
 
 /// [`modes_moved_on`], inlined into a caller compiled for its own instruction set.
 #[inline(always)]
-fn modes_moved_on_inlined(co: &StepCoefficients, start: &[f64], a0: DVec3, da: DVec3, out: &mut [f64]) {
+fn modes_moved_on_inlined(
+    co: &StepCoefficients,
+    start: &[f64],
+    a0: DVec3,
+    da: DVec3,
+    out: &mut [f64],
+    avx: Avx,
+) {
     let n = out.len() / 3;
     let (ox, rest) = out.split_at_mut(n);
     let (oy, oz) = rest.split_at_mut(n);
     let part = |c: usize| if start.is_empty() { &start[..0] } else { &start[c * n..(c + 1) * n] };
-    moved_on(ox, part(0), co, a0.x, da.x);
-    moved_on(oy, part(1), co, a0.y, da.y);
-    moved_on(oz, part(2), co, a0.z, da.z);
+    let (e, p1, p2) = (&co.decay[..], &co.phi1[..], &co.phi2[..]);
+    lane_update(ox, (part(0), e), (a0.x, p1), (da.x, p2), avx);
+    lane_update(oy, (part(1), e), (a0.y, p1), (da.y, p2), avx);
+    lane_update(oz, (part(2), e), (a0.z, p1), (da.z, p2), avx);
 }
 
 impl<M: Motion> Kernel<'_, M> {
@@ -260,8 +247,8 @@ impl<M: Motion> Kernel<'_, M> {
     /// at a time (not flown, its memory not written), and so is the whole group when `h` is not
     /// the step's (`None`). Always inlined, so that its lanes compile with the instruction set of
     /// the loop that calls it (and the ends are lanes, not an array of options, which went
-    /// through memory by parts, `perf annotate`); `avx` says whether that loop's sums over the
-    /// modes may take AVX.
+    /// through memory by parts, `perf annotate`); `avx` says whether that loop's two sweeps over the
+    /// modes may take AVX with FMA.
     #[inline(always)]
     pub fn remembered_lanes(
         &self,
@@ -308,7 +295,7 @@ impl<M: Motion> Kernel<'_, M> {
         let (a0, da) = (end.a0.to_array(), (end.a1 - end.a0).to_array());
         for (i, (start, out)) in starts.chunks_exact(width).zip(out.chunks_exact_mut(width)).enumerate() {
             if flown[i] {
-                modes_moved_on_inlined(co, start, a0[i], da[i], out);
+                modes_moved_on_inlined(co, start, a0[i], da[i], out, avx);
             }
         }
         Some((flown, end.x1, end.v1))

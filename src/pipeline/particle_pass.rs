@@ -263,7 +263,7 @@ fn free_chunk<M: Motion, const LUBRICATED: bool>(
 /// groups of four where that pays ([`Kernel::remembered_lanes`]), the rest one at a time (those
 /// left over, and those the lanes leave to wall lubrication's sub-steps): the same operations
 /// either way, so the same bits.
-#[multiversion(targets("x86_64+avx2"))]
+#[multiversion(targets("x86_64+avx2+fma"))]
 fn remembering_free_chunk<M: Motion>(
     flight: &Kernel<M>,
     c: Columns,
@@ -273,7 +273,7 @@ fn remembering_free_chunk<M: Motion>(
 ) -> Chunk {
     let (h, width) = (t1 - t0, rec.width);
     let by_lanes = by_lanes(flight, c.pos.len(), selected_target!());
-    // The sums over each bead's modes in 256-bit vectors in the AVX2 copy.
+    // The two sweeps over each bead's modes in 256-bit vectors with FMA in the AVX2 copy.
     let avx = Avx::of(selected_target!());
     let mut alone: Vec<usize> = Vec::new();
     for first in (0..by_lanes).step_by(LANES) {
