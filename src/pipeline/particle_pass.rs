@@ -276,20 +276,28 @@ fn remembering_free_chunk<M: Motion>(
     // The two sweeps over each bead's modes in 256-bit vectors with FMA in the AVX2 copy.
     let avx = Avx::of(selected_target!());
     let mut alone: Vec<usize> = Vec::new();
-    for first in (0..by_lanes).step_by(LANES) {
-        let lane = |i: usize| first + i;
-        let (k, d) =
-            (each([0, 1, 2, 3], |i| c.kind[lane(i)]), F64x4(each([0, 1, 2, 3], |i| c.diameter[lane(i)])));
-        let (x, v) = (each([0, 1, 2, 3], |i| c.pos[lane(i)]), each([0, 1, 2, 3], |i| c.vel[lane(i)]));
+    // Lane groups as arrays of four, as in `free_chunk`: indexing by `first + i` cost a bounds
+    // check per column and lane, 36 instructions per bead of 1012 (callgrind, docs/performance.md).
+    let (pos, vel, kind, diameter) = (
+        c.pos[..by_lanes].as_chunks::<LANES>().0,
+        c.vel[..by_lanes].as_chunks::<LANES>().0,
+        c.kind[..by_lanes].as_chunks::<LANES>().0,
+        c.diameter[..by_lanes].as_chunks::<LANES>().0,
+    );
+    let (x1, v1) = (c.x1[..by_lanes].as_chunks_mut::<LANES>().0, c.v1[..by_lanes].as_chunks_mut::<LANES>().0);
+    let outs = rec.out[..by_lanes * width].chunks_exact_mut(LANES * width);
+    let groups = pos.iter().zip(vel).zip(kind).zip(diameter).zip(x1.iter_mut().zip(v1)).zip(outs);
+    for (g, (((((x, v), k), d), (x1, v1)), out)) in groups.enumerate() {
+        let first = g * LANES;
+        let (k, d) = (*k, F64x4(*d));
         let field = flight.field_lanes(k, d);
-        let out = &mut rec.out[first * width..(first + LANES) * width];
-        let starts = (DVec3x4::from_array(x), DVec3x4::from_array(v));
+        let starts = (DVec3x4::from_array(*x), DVec3x4::from_array(*v));
         match flight.remembered_lanes(&field, (k, d), starts, (c.base + first, h), out, avx) {
-            Some((flown, x1, v1)) => {
-                let (x1, v1) = (x1.to_array(), v1.to_array());
+            Some((flown, xn, vn)) => {
+                let (xn, vn) = (xn.to_array(), vn.to_array());
                 for i in 0..LANES {
                     if flown[i] {
-                        (c.x1[first + i], c.v1[first + i]) = (x1[i], v1[i]);
+                        (x1[i], v1[i]) = (xn[i], vn[i]);
                     } else {
                         alone.push(first + i);
                     }
