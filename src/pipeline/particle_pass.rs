@@ -179,13 +179,7 @@ fn free_chunk<M: Motion, const LUBRICATED: bool>(
     // few left over one by one: the same operations either way, so the same bits.
     let h = t1 - t0;
     let by_lanes = by_lanes(flight, c.pos.len(), selected_target!());
-    let (pos, vel, kind, diameter) = (
-        c.pos[..by_lanes].as_chunks::<LANES>().0,
-        c.vel[..by_lanes].as_chunks::<LANES>().0,
-        c.kind[..by_lanes].as_chunks::<LANES>().0,
-        c.diameter[..by_lanes].as_chunks::<LANES>().0,
-    );
-    let (x1, v1) = (c.x1[..by_lanes].as_chunks_mut::<LANES>().0, c.v1[..by_lanes].as_chunks_mut::<LANES>().0);
+    let (pos, vel, kind, diameter, x1, v1) = lane_groups(&mut c, by_lanes);
     for (((((x, v), k), d), x1), v1) in pos.iter().zip(vel).zip(kind).zip(diameter).zip(x1).zip(v1) {
         let field = flight.field_lanes(*k, F64x4(*d));
         let (xn, vn) = flight.motion.advance(&field, DVec3x4::from_array(*x), DVec3x4::from_array(*v), h);
@@ -266,7 +260,7 @@ fn free_chunk<M: Motion, const LUBRICATED: bool>(
 #[multiversion(targets("x86_64+avx2+fma"))]
 fn remembering_free_chunk<M: Motion>(
     flight: &Kernel<M>,
-    c: Columns,
+    mut c: Columns,
     t0: f64,
     t1: f64,
     rec: Remembering,
@@ -278,13 +272,8 @@ fn remembering_free_chunk<M: Motion>(
     let mut alone: Vec<usize> = Vec::new();
     // Lane groups as arrays of four, as in `free_chunk`: indexing by `first + i` cost a bounds
     // check per column and lane, 36 instructions per bead of 1012 (callgrind, docs/performance.md).
-    let (pos, vel, kind, diameter) = (
-        c.pos[..by_lanes].as_chunks::<LANES>().0,
-        c.vel[..by_lanes].as_chunks::<LANES>().0,
-        c.kind[..by_lanes].as_chunks::<LANES>().0,
-        c.diameter[..by_lanes].as_chunks::<LANES>().0,
-    );
-    let (x1, v1) = (c.x1[..by_lanes].as_chunks_mut::<LANES>().0, c.v1[..by_lanes].as_chunks_mut::<LANES>().0);
+    let base = c.base;
+    let (pos, vel, kind, diameter, x1, v1) = lane_groups(&mut c, by_lanes);
     let outs = rec.out[..by_lanes * width].chunks_exact_mut(LANES * width);
     let groups = pos.iter().zip(vel).zip(kind).zip(diameter).zip(x1.iter_mut().zip(v1)).zip(outs);
     for (g, (((((x, v), k), d), (x1, v1)), out)) in groups.enumerate() {
@@ -292,7 +281,7 @@ fn remembering_free_chunk<M: Motion>(
         let (k, d) = (*k, F64x4(*d));
         let field = flight.field_lanes(k, d);
         let starts = (DVec3x4::from_array(*x), DVec3x4::from_array(*v));
-        match flight.remembered_lanes(&field, (k, d), starts, (c.base + first, h), out, avx) {
+        match flight.remembered_lanes(&field, (k, d), starts, (base + first, h), out, avx) {
             Some((flown, xn, vn)) => {
                 let (xn, vn) = (xn.to_array(), vn.to_array());
                 for i in 0..LANES {
@@ -331,6 +320,32 @@ fn remembering_free_chunk<M: Motion>(
     out.suspect = !sum.is_finite();
     out
 }
+
+/// A chunk's first `n` particles (`n` a multiple of four) as lane groups: the start's
+/// positions, velocities, kinds and diameters, and the ends to write, as arrays of four (no
+/// bounds check per column and lane in the loops over them).
+#[inline(always)]
+fn lane_groups<'c>(c: &'c mut Columns, n: usize) -> LaneGroups<'c> {
+    (
+        c.pos[..n].as_chunks::<LANES>().0,
+        c.vel[..n].as_chunks::<LANES>().0,
+        c.kind[..n].as_chunks::<LANES>().0,
+        c.diameter[..n].as_chunks::<LANES>().0,
+        c.x1[..n].as_chunks_mut::<LANES>().0,
+        c.v1[..n].as_chunks_mut::<LANES>().0,
+    )
+}
+
+/// What [`lane_groups`] gives: positions, velocities, kinds, diameters; end positions and
+/// velocities.
+type LaneGroups<'c> = (
+    &'c [[DVec3; LANES]],
+    &'c [[DVec3; LANES]],
+    &'c [[u16; LANES]],
+    &'c [[f64; LANES]],
+    &'c mut [[DVec3; LANES]],
+    &'c mut [[DVec3; LANES]],
+);
 
 /// How many of a chunk's `n` particles go by lane groups, in a copy compiled for `target`: as
 /// many whole groups as there are where lane groups pay, none where they do not. They pay for
