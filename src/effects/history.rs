@@ -18,8 +18,8 @@ pub const SHORTEST_LAG: f64 = 1e-10;
 /// The history effect. Scene table: `history = {}`, or `history = { window = 1.0,
 /// tolerance = 1e-4 }`: the memory kernel `1/√t` is matched within `tolerance` (relative) for
 /// lags from `1e-10 window` to `window` (s); beyond the window the sum falls slowly below
-/// `1/√t`, so older accelerations are under-weighted, then forgotten. Memory: 37 modes
-/// (888 bytes) per particle with the defaults.
+/// `1/√t`, so older accelerations are under-weighted, then forgotten. Memory: 37 modes with
+/// the defaults, stored as 28 (672 bytes) per particle at Δt = 8.77 µs ([`Fold`]).
 #[derive(Debug, Clone, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct History {
@@ -69,18 +69,29 @@ impl Effect for History {
 
     fn apply(&self, _fluid: &Fluid, _kinds: &[ParticleKind], physics: &mut Physics) {
         let kernel = MemoryKernel::new(self.window, self.tolerance);
-        physics.features.add(Arc::new(Memory { modes: kernel.modes() }));
+        physics.features.add(Arc::new(Memory { numbers: 3 * kernel.stored_modes() }));
         physics.history = Some(kernel);
     }
 }
 
+/// Once the scene's time step `dt` (s) is known: the history kernel of `physics` (if any)
+/// holds its fast modes folded for that step ([`MemoryKernel::fold_for_step`]), and the
+/// memory feature's column is as wide as the memory it then stores.
+pub fn fold_history_for_step(physics: &mut Physics, dt: f64) {
+    if let Some(kernel) = &mut physics.history {
+        kernel.fold_for_step(dt);
+        physics.features.replace(Arc::new(Memory { numbers: 3 * kernel.stored_modes() }));
+    }
+}
+
 /// The memory of the history force as a feature: a typed column of the store
-/// ([`Particles::memory`], 3 × `modes` numbers per particle) that the flight kernel reads in the
+/// ([`Particles::memory`], 3 × [`MemoryKernel::stored_modes`] numbers per particle) that the flight kernel reads in the
 /// hot loop and writes the end of in `Next::memory` (the particle pass, and stage 4 for the
 /// paths a contact restarted); the store commits it.
 #[derive(Debug, Clone)]
 struct Memory {
-    modes: usize,
+    /// Numbers per particle: 3 × [`MemoryKernel::stored_modes`].
+    numbers: usize,
 }
 
 impl Feature for Memory {
@@ -93,7 +104,7 @@ impl Feature for Memory {
     /// velocity forever.
     fn start(&self, p: &mut Particles) -> Result<(), TryReserveError> {
         if !p.memory.is_on() {
-            p.memory = Column::try_new(3 * self.modes, 0.0, p.len())?;
+            p.memory = Column::try_new(self.numbers, 0.0, p.len())?;
         }
         Ok(())
     }
@@ -123,6 +134,48 @@ pub struct MemoryKernel {
     /// `D = ∫_0^T (1/√t − Σ w_k e^{−λ_k t}) dt` (s^½), at `T = 10⁴ ×` the shortest lag, where
     /// the sum has long joined `1/√t`.
     pub short_weight: f64,
+    /// Once folded for a time step ([`MemoryKernel::fold_for_step`]): the modes that forget
+    /// their start within one step, stored as two numbers per component.
+    pub fold: Option<Fold>,
+}
+
+/// A mode forgets its start within a step of `dt` when `λ dt` is at least this: `e^{−40}` is
+/// 4·10⁻¹⁸. Such modes are the ones a kernel folded for `dt` holds as `(A, B)` ([`Fold`]).
+pub const FORGETS_IN_A_STEP: f64 = 40.0;
+
+/// The stored form of a folded memory serves a segment of `h` when its slowest fast mode has
+/// `λ h` at least this (`e^{−37}` is 8.5·10⁻¹⁷, below the round-off of the numbers it
+/// multiplies): the whole steps, and a step shortened by less than 7 % to land on an output.
+pub const FORGOTTEN_IN_A_SEGMENT: f64 = 37.0;
+
+/// The fast modes of a kernel folded for a time step `dt`: those with `λ_k dt ≥ 40`, the last
+/// of the sum (its rates rise along it), less as few as make the numbers stored per component
+/// a multiple of four (the lane groups' width). A mode that forgets its start within the
+/// segment it flies holds, at the segment's end, `F_k = A/λ_k − B/λ_k²` exactly (to
+/// `e^{−λ_k h}`) when the acceleration is linear across it, with `A` the acceleration at the
+/// end and `B` its slope: `h φ1(−λh) = 1/λ` and `h φ2(−λh) = 1/λ − 1/(λ² h)` there. So the memory
+/// stores `A` and `B` in place of those modes (per component: the slow modes one by one, then
+/// `A`, then `B`), and a whole step reads them as two modes of weights `Σ w_k/λ_k` and
+/// `−Σ w_k/λ_k²` that forget their start (docs/physics.md §10.1). A segment the stored form does
+/// not serve (a contact's, a film's sub-steps) expands them, `F_k = (A − B/λ_k)/λ_k`, and folds
+/// its end back by the two moments `Σ w_k F_k` and `Σ w_k F_k/λ_k` (the first exact: it is all
+/// a following whole step reads of them).
+#[derive(Debug, Clone, PartialEq)]
+pub struct Fold {
+    /// The modes kept one by one: the first `slow` of the sum.
+    pub slow: usize,
+    /// `Σ w_k/λ_k` (s^½) over the fast modes: the weight of `A`.
+    pub q1: f64,
+    /// `Σ w_k/λ_k²` (s^{3/2}) over the fast modes: minus the weight of `B`.
+    pub q2: f64,
+    /// The slowest fast mode's rate (1/s).
+    pub slowest: f64,
+    /// `(A, B)` from the moments `(Σ w_k F_k, Σ w_k F_k/λ_k)`: the inverse of
+    /// `[[q1, −q2], [q2, −q3]]`, `q3 = Σ w_k/λ_k³`.
+    fit: [[f64; 2]; 2],
+    /// `1/λ_k` and `w_k/λ_k` of the fast modes.
+    inverse_rate: Vec<f64>,
+    weight_over_rate: Vec<f64>,
 }
 
 impl MemoryKernel {
@@ -132,17 +185,91 @@ impl MemoryKernel {
         let sum = ExponentialSum::inverse_sqrt(shortest, window, tolerance);
         let t = 1e4 * shortest;
         let area: f64 = sum.weights.iter().zip(&sum.rates).map(|(w, l)| w * -(-l * t).exp_m1() / l).sum();
-        MemoryKernel { window, tolerance, short_weight: 2.0 * t.sqrt() - area, sum }
+        MemoryKernel { window, tolerance, short_weight: 2.0 * t.sqrt() - area, sum, fold: None }
     }
 
-    /// Number of modes, the states kept per particle and per component.
+    /// Number of modes of the sum.
     pub fn modes(&self) -> usize {
         self.sum.len()
     }
 
-    /// Memory per particle (bytes): one `DVec3` per mode.
+    /// Numbers stored per particle and per component: the modes, or, folded, the slow ones
+    /// and `A`, `B` ([`Fold`]).
+    pub fn stored_modes(&self) -> usize {
+        self.fold.as_ref().map_or(self.modes(), |f| f.slow + 2)
+    }
+
+    /// Memory per particle (bytes): three numbers per stored mode.
     pub fn bytes_per_particle(&self) -> usize {
-        self.modes() * std::mem::size_of::<glam::DVec3>()
+        self.stored_modes() * std::mem::size_of::<glam::DVec3>()
+    }
+
+    /// Folds the modes that forget their start within a step of `dt` (s) ([`Fold`]); none when
+    /// fewer than three would fold (two numbers would then replace as many or more).
+    pub fn fold_for_step(&mut self, dt: f64) {
+        self.fold = None;
+        let n = self.modes();
+        let rates = &self.sum.rates;
+        // Index 0 is the lumped slow tail; the rates rise from index 1 on.
+        let mut fast = rates[1..].iter().rev().take_while(|&&l| l * dt >= FORGETS_IN_A_STEP).count();
+        while fast >= 3 && !(n - fast + 2).is_multiple_of(4) {
+            fast -= 1;
+        }
+        if fast < 3 {
+            return;
+        }
+        let slow = n - fast;
+        let q = |p: i32| -> f64 {
+            let fast_modes = self.sum.weights[slow..].iter().zip(&rates[slow..]);
+            fast_modes.map(|(w, l)| w / l.powi(p)).sum()
+        };
+        let (q1, q2, q3) = (q(1), q(2), q(3));
+        // [[q1, −q2], [q2, −q3]]⁻¹; its determinant q2² − q1 q3 < 0 (Cauchy–Schwarz, the rates
+        // differ).
+        let det = q2 * q2 - q1 * q3;
+        let fit = [[-q3 / det, q2 / det], [-q2 / det, q1 / det]];
+        let inverse_rate: Vec<f64> = rates[slow..].iter().map(|l| 1.0 / l).collect();
+        let weights = &self.sum.weights[slow..];
+        let weight_over_rate = weights.iter().zip(&inverse_rate).map(|(w, i)| w * i).collect();
+        self.fold = Some(Fold { slow, q1, q2, slowest: rates[slow], fit, inverse_rate, weight_over_rate });
+    }
+
+    /// The modes one by one (`full`, 3 × [`MemoryKernel::modes`] by component) from the memory
+    /// as stored (`stored`, 3 × [`MemoryKernel::stored_modes`]).
+    pub fn expand(&self, stored: &[f64], full: &mut [f64]) {
+        let Some(f) = &self.fold else {
+            full.copy_from_slice(stored);
+            return;
+        };
+        let (n, w) = (self.modes(), f.slow + 2);
+        for (s, o) in stored.chunks_exact(w).zip(full.chunks_exact_mut(n)) {
+            o[..f.slow].copy_from_slice(&s[..f.slow]);
+            let (a, b) = (s[f.slow], s[f.slow + 1]);
+            for (o, &i) in o[f.slow..].iter_mut().zip(&f.inverse_rate) {
+                *o = (a - b * i) * i;
+            }
+        }
+    }
+
+    /// The memory as stored from the modes one by one: [`MemoryKernel::expand`]'s inverse,
+    /// exact for modes of the form `(A − B/λ_k)/λ_k`, the two moments of [`Fold`] otherwise.
+    pub fn fold(&self, full: &[f64], stored: &mut [f64]) {
+        let Some(f) = &self.fold else {
+            stored.copy_from_slice(full);
+            return;
+        };
+        let (n, w) = (self.modes(), f.slow + 2);
+        for (o, s) in stored.chunks_exact_mut(w).zip(full.chunks_exact(n)) {
+            o[..f.slow].copy_from_slice(&s[..f.slow]);
+            let (mut m0, mut m1) = (0.0, 0.0);
+            let fast = s[f.slow..].iter().zip(&self.sum.weights[f.slow..]).zip(&f.weight_over_rate);
+            for ((&x, &w), &wi) in fast {
+                m0 += w * x;
+                m1 += wi * x;
+            }
+            o[f.slow] = f.fit[0][0] * m0 + f.fit[0][1] * m1;
+            o[f.slow + 1] = f.fit[1][0] * m0 + f.fit[1][1] * m1;
+        }
     }
 }
 
@@ -178,6 +305,77 @@ mod tests {
         let k = MemoryKernel::new(1.0, 1e-4);
         assert_eq!(k.modes(), 37);
         assert_eq!(k.bytes_per_particle(), 24 * k.modes());
+    }
+
+    /// The bench scenes' step.
+    const BENCH_DT: f64 = 8.77e-6;
+
+    fn folded(dt: f64) -> MemoryKernel {
+        let mut k = MemoryKernel::new(1.0, 1e-4);
+        k.fold_for_step(dt);
+        k
+    }
+
+    #[test]
+    fn folded_for_the_bench_step_the_default_kernel_stores_28_modes_a_multiple_of_four() {
+        let k = folded(BENCH_DT);
+        let f = k.fold.as_ref().expect("folded");
+        assert_eq!((k.modes(), f.slow, k.stored_modes()), (37, 26, 28));
+        assert_eq!(k.bytes_per_particle(), 28 * 24);
+        assert!(k.sum.rates[f.slow..].iter().all(|&l| l * BENCH_DT >= FORGETS_IN_A_STEP));
+        assert_eq!(f.slowest, k.sum.rates[f.slow]);
+        // One more mode would forget its start too, but the stored numbers would be 27.
+        assert!(k.sum.rates[f.slow - 1] * BENCH_DT >= FORGETS_IN_A_STEP);
+        assert!(k.sum.rates[f.slow - 2] * BENCH_DT < FORGETS_IN_A_STEP);
+        // A step so short that fewer than three modes forget it: nothing folds.
+        let k = folded(1e-9);
+        assert_eq!((k.fold.is_none(), k.stored_modes()), (true, 37));
+    }
+
+    /// Numbers of every sign and of the sizes a bead's memory has (`A` in m/s², `B` = slope).
+    fn some_stored(k: &MemoryKernel) -> Vec<f64> {
+        let w = k.stored_modes();
+        (0..3 * w)
+            .map(|i| match i % w {
+                j if j == w - 2 => 9.81 * (1.0 - 0.3 * (i / w) as f64),
+                j if j == w - 1 => -4.0e5 * (1.0 + (i / w) as f64),
+                j => 1e-3 * ((j * 7919 % 997) as f64 - 498.0),
+            })
+            .collect()
+    }
+
+    #[test]
+    fn a_memory_of_the_folded_form_expands_and_folds_back_to_itself() {
+        let k = folded(BENCH_DT);
+        let stored = some_stored(&k);
+        let mut full = vec![0.0; 3 * k.modes()];
+        k.expand(&stored, &mut full);
+        let mut back = vec![0.0; stored.len()];
+        k.fold(&full, &mut back);
+        let w = k.stored_modes();
+        for (i, (a, b)) in stored.iter().zip(&back).enumerate() {
+            let tol = if i % w < w - 2 { 0.0 } else { 1e-11 * a.abs() };
+            assert!((a - b).abs() <= tol, "number {i}: {a} folded back to {b}");
+        }
+    }
+
+    #[test]
+    fn folding_keeps_what_a_whole_step_reads_of_the_fast_modes_whatever_they_hold() {
+        let k = folded(BENCH_DT);
+        let f = k.fold.as_ref().expect("folded");
+        let n = k.modes();
+        // Modes of no particular form (a film's sub-steps, a contact's short segment).
+        let full: Vec<f64> = (0..3 * n).map(|i| ((i * 104729 % 1009) as f64 - 500.0) * 1e-4).collect();
+        let mut stored = vec![0.0; 3 * k.stored_modes()];
+        k.fold(&full, &mut stored);
+        for c in 0..3 {
+            let s = &stored[c * (f.slow + 2)..(c + 1) * (f.slow + 2)];
+            let fast = &full[c * n + f.slow..(c + 1) * n];
+            let exact: f64 = fast.iter().zip(&k.sum.weights[f.slow..]).map(|(x, w)| w * x).sum();
+            let read = f.q1 * s[f.slow] - f.q2 * s[f.slow + 1];
+            assert!((read - exact).abs() <= 1e-12 * exact.abs(), "component {c}: {read} vs {exact}");
+            assert_eq!(&s[..f.slow], &full[c * n..c * n + f.slow]);
+        }
     }
 
     #[test]

@@ -27,7 +27,10 @@ pub use contact_time::ContactTime;
 pub use drag::{Drag, DragLaw, DragLawKind, NoDrag, SchillerNaumann, Stokes};
 pub use fluid_acceleration::{FluidAcceleration, fluid_acceleration_gain};
 pub use gravity::Gravity;
-pub use history::{History, MemoryKernel, SHORTEST_LAG, history_rate_times_radius};
+pub use history::{
+    FORGETS_IN_A_STEP, FORGOTTEN_IN_A_SEGMENT, Fold, History, MemoryKernel, SHORTEST_LAG,
+    fold_history_for_step, history_rate_times_radius,
+};
 pub use rotation::Rotation;
 pub use wall_lubrication::{
     RANGE as LUBRICATION_RANGE, WallExcess, WallLubrication, WallTable, taper, wall_excess,

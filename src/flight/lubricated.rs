@@ -121,33 +121,68 @@ impl Split<DVec3> {
 
 /// The memory that the sub-steps carry with the history effect (docs/physics.md §10, §8): the
 /// modes `F_k`, moved on sub-step by sub-step as [`super::remembered`] moves them over a
-/// step, with the acceleration linear in time across each sub-step.
+/// step, with the acceleration linear in time across each sub-step. A sub-step of the whole
+/// step (most flights near a wall but not in its film are one) reads and moves the memory as
+/// stored; a shorter one needs the modes one by one, expanded from it once
+/// ([`MemoryKernel::expand`]) and folded back at the end ([`Carried::finish`]).
 pub(super) struct Carried<'m> {
     /// Weights, rates and short-lag weight of the kernel.
     pub kernel: &'m MemoryKernel,
-    /// The modes, at the start of the flight on entry and at its end on return (by
-    /// component, as [`crate::particles::Particles::memory`] holds them).
-    pub modes: &'m mut [f64],
+    /// The memory as stored, the flight's start on entry and its end once finished.
+    pub stored: &'m mut [f64],
+    /// The modes one by one, once expanded (empty before; unused when the kernel is not
+    /// folded, whose memory is stored one by one).
+    pub full: Vec<f64>,
     /// The particle's `c` (s^−½).
     pub c: f64,
-    /// The coefficients of the whole step and of half of it, computed once per step: a flight
-    /// of a whole step in one sub-step (most of those near a wall but not in its film) reads
-    /// them instead of an exponential per mode.
-    pub whole: &'m StepCoefficients,
-    pub half: &'m StepCoefficients,
+    /// The coefficients of the whole step and of half of it, computed once per step, for the
+    /// memory as stored and for the modes one by one: a flight of a whole step in one sub-step
+    /// reads them instead of an exponential per mode.
+    pub whole: (&'m StepCoefficients, &'m StepCoefficients),
+    pub half: (&'m StepCoefficients, &'m StepCoefficients),
 }
 
 impl Carried<'_> {
+    /// Whether the memory is still as stored (not expanded) and `co` serves it.
+    fn stored_form(&self, co: &StepCoefficients) -> bool {
+        self.full.is_empty() && co.serves_stored()
+    }
+
+    /// The modes one by one: the memory as stored when the kernel is not folded, else
+    /// expanded from it on first use.
+    fn modes(&mut self) -> &mut [f64] {
+        if self.kernel.fold.is_none() {
+            return self.stored;
+        }
+        if self.full.is_empty() {
+            self.full = vec![0.0; 3 * self.kernel.modes()];
+            self.kernel.expand(self.stored, &mut self.full);
+        }
+        &mut self.full
+    }
+
+    /// `(Σ w_k F_k, Σ w_k e^{−λ_k h/2} F_k)`, `h` the whole step: the memory's force at a
+    /// sub-step's start, and at the middle of a sub-step of the whole step.
+    fn now_and_at_half(&mut self) -> (DVec3, DVec3) {
+        let half = self.half;
+        if self.stored_form(half.0) {
+            return half.0.memory_now_and_after(self.stored);
+        }
+        half.1.memory_now_and_after(self.modes())
+    }
+
     /// The memory's force at `dt` into a sub-step, the modes' response inside it left out:
     /// `Σ w_k e^{−λ_k dt} F_k` (m/s^{3/2}), and the weight `D + Σ w_k dt φ1(−λ_k dt)` (s^½)
     /// with which an acceleration constant over those `dt` adds to it.
-    fn ahead(&self, dt: f64) -> (DVec3, f64) {
-        let n = self.kernel.modes();
-        let (mut s, mut d) = (DVec3::ZERO, self.kernel.short_weight);
-        for (k, (&w, &rate)) in self.kernel.sum.weights.iter().zip(&self.kernel.sum.rates).enumerate() {
+    fn ahead(&mut self, dt: f64) -> (DVec3, f64) {
+        let kernel = self.kernel;
+        let n = kernel.modes();
+        let modes = self.modes();
+        let (mut s, mut d) = (DVec3::ZERO, kernel.short_weight);
+        for (k, (&w, &rate)) in kernel.sum.weights.iter().zip(&kernel.sum.rates).enumerate() {
             let z = -rate * dt;
             let (p1, _) = phi12(z);
-            let f = DVec3::new(self.modes[k], self.modes[n + k], self.modes[2 * n + k]);
+            let f = DVec3::new(modes[k], modes[n + k], modes[2 * n + k]);
             s += f * (w * (1.0 + z * p1));
             d += w * dt * p1;
         }
@@ -161,19 +196,33 @@ impl Carried<'_> {
     /// once, so an acceleration read there is far from the mean and would be remembered as a
     /// jolt at every sub-step; `dv` is what the slip did.
     fn commit(&mut self, dv: DVec3, dt: f64) {
-        if dt == self.whole.h() {
+        let whole = self.whole;
+        if dt == whole.1.h() {
             // A sub-step of the whole step: its coefficients are the step's.
-            self.whole.move_on_by(self.modes, dv);
+            if self.stored_form(whole.0) {
+                whole.0.move_on_by(self.stored, dv);
+            } else {
+                whole.1.move_on_by(self.modes(), dv);
+            }
             return;
         }
-        let n = self.kernel.modes();
-        for (k, &rate) in self.kernel.sum.rates.iter().enumerate() {
+        let kernel = self.kernel;
+        let n = kernel.modes();
+        let modes = self.modes();
+        for (k, &rate) in kernel.sum.rates.iter().enumerate() {
             let z = -rate * dt;
             let (p1, _) = phi12(z);
             for c in 0..3 {
-                let f = &mut self.modes[c * n + k];
+                let f = &mut modes[c * n + k];
                 *f = *f * (1.0 + z * p1) + dv[c] * p1;
             }
+        }
+    }
+
+    /// The memory as stored at the flight's end: the modes folded back if they were expanded.
+    fn finish(self) {
+        if !self.full.is_empty() {
+            self.kernel.fold(&self.full, self.stored);
         }
     }
 }
@@ -384,9 +433,9 @@ impl<M: Motion> Kernel<'_, M> {
             // With memory: its force now, and half a step on (what a sub-step of the whole
             // step reads at its middle), in one sweep over the modes.
             let mut at_half = DVec3::ZERO;
-            if let Some(m) = &memory {
+            if let Some(m) = &mut memory {
                 let now;
-                (now, at_half) = m.half.memory_now_and_after(m.modes, &m.kernel.sum.weights);
+                (now, at_half) = m.now_and_at_half();
                 s0 = s0.with_history(n, m.c, now, m.kernel.short_weight);
             }
             let vn = v.dot(n).abs();
@@ -397,9 +446,9 @@ impl<M: Motion> Kernel<'_, M> {
             let (x1, v1) = loop {
                 let (xm, vm) = s0.step(n, x, v, 0.5 * dt);
                 let mut sm = self.split(lub, field, (k, r), (xm, vm), (gap_at(xm).max(1e-3 * g), n));
-                if let Some(m) = &memory {
-                    let (s, d) = if 0.5 * dt == m.half.h() {
-                        (at_half, m.kernel.short_weight + m.half.response())
+                if let Some(m) = &mut memory {
+                    let (s, d) = if 0.5 * dt == m.half.1.h() {
+                        (at_half, m.kernel.short_weight + m.half.1.response())
                     } else {
                         m.ahead(0.5 * dt)
                     };
@@ -418,6 +467,9 @@ impl<M: Motion> Kernel<'_, M> {
             if dt >= rem {
                 break;
             }
+        }
+        if let Some(m) = memory {
+            m.finish();
         }
         (x, v)
     }

@@ -181,7 +181,10 @@ impl<'a, M: Motion> Kernel<'a, M> {
     ) -> Self {
         if let Some(kernel) = kernel {
             let lubrication = match self.nonlinear.take() {
-                Some(NonLinear::Lubrication(lub)) => Some((lub, StepCoefficients::new(kernel, 0.5 * step))),
+                Some(NonLinear::Lubrication(lub)) => {
+                    let half = 0.5 * step;
+                    Some((lub, (StepCoefficients::stored(kernel, half), StepCoefficients::new(kernel, half))))
+                }
                 _ => None,
             };
             self.nonlinear = Some(NonLinear::Memory(Box::new(remembered::Memory {
@@ -191,7 +194,8 @@ impl<'a, M: Motion> Kernel<'a, M> {
                     .iter()
                     .map(|t| history_rate_times_radius(fluid, t.inertia_density))
                     .collect(),
-                step: StepCoefficients::new(kernel, step),
+                step: StepCoefficients::stored(kernel, step),
+                whole: StepCoefficients::new(kernel, step),
                 kernel,
                 start,
             })));
@@ -199,11 +203,11 @@ impl<'a, M: Motion> Kernel<'a, M> {
         self
     }
 
-    /// Numbers of memory per particle (3 × modes, [`crate::particles::Particles::memory`])
+    /// Numbers of memory per particle (3 × stored modes, [`crate::particles::Particles::memory`])
     /// when the kernel flies with memory.
     pub fn memory_width(&self) -> Option<usize> {
         match &self.nonlinear {
-            Some(NonLinear::Memory(m)) => Some(3 * m.kernel.modes()),
+            Some(NonLinear::Memory(m)) => Some(3 * m.kernel.stored_modes()),
             _ => None,
         }
     }

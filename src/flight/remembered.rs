@@ -15,10 +15,15 @@
 //! slow ones carry the old accelerations. The scheme is second order on smooth motions and
 //! A-stable in the drag (as `λ h → ∞` the velocity lands on the fluid's plus the terminal
 //! slip), whatever the scene's integrator: with history, free flight is this scheme.
+//!
+//! The modes that forget their start within a step are stored folded, as the acceleration at
+//! the end of the step and its slope ([`crate::effects::Fold`]): a whole step reads and writes
+//! the memory as stored ([`StepCoefficients::stored`]); any other segment expands it, flies the
+//! modes one by one, and folds its end back.
 
 use super::lubricated::{Carried, Lubrication};
 use super::{Kernel, Motion, NO_MEMORY, NonLinear, Segment};
-use crate::effects::MemoryKernel;
+use crate::effects::{FORGOTTEN_IN_A_SEGMENT, MemoryKernel};
 use crate::integrate::{ForceField, Linear, phi12};
 use crate::numeric::lane_sums::{Avx, lane_sums, lane_update};
 use crate::numeric::lanes::{DVec3x4, F64x4, LANES, Real, Vector, each};
@@ -31,22 +36,32 @@ pub(super) struct Memory<'a> {
     pub kernel: &'a MemoryKernel,
     /// Per kind, `c a` (m s^−½): [`crate::effects::history_rate_times_radius`].
     pub kind_rate: Vec<f64>,
-    /// The memory of every particle at the start of the step, `3 × kernel.modes()` numbers per
-    /// particle, by component ([`crate::particles::Particles::memory`]).
+    /// The memory of every particle at the start of the step, `3 × kernel.stored_modes()`
+    /// numbers per particle, by component ([`crate::particles::Particles::memory`]).
     pub start: &'a [f64],
-    /// The per-mode coefficients of a whole step (most segments are one).
+    /// The coefficients of a whole step (most segments are one) for the memory as stored
+    /// ([`StepCoefficients::stored`]).
     pub step: StepCoefficients,
+    /// The coefficients of a whole step for the modes one by one ([`StepCoefficients::new`]):
+    /// the flights the stored form does not serve expand the memory.
+    pub whole: StepCoefficients,
     /// With wall lubrication too: near a wall, the flight is its sub-steps, carrying the memory;
-    /// with the coefficients of half a step, which a sub-step of a whole step reads at its middle.
-    pub lubrication: Option<(Lubrication, StepCoefficients)>,
+    /// with the coefficients of half a step, which a sub-step of a whole step reads at its
+    /// middle, for the memory as stored and for the modes one by one.
+    pub lubrication: Option<(Lubrication, (StepCoefficients, StepCoefficients))>,
 }
 
 /// The per-mode coefficients of a segment of length `h`, the same for every particle:
-/// `e^{−λ_k h}`, `h φ1(−λ_k h)`, `h φ2(−λ_k h)`, `w_k e^{−λ_k h}`, and
-/// the sums `Σ w_k h φ1`, `Σ w_k h φ2` (s^½).
+/// the weights `w_k`, `e^{−λ_k h}`, `h φ1(−λ_k h)`, `h φ2(−λ_k h)`, `w_k e^{−λ_k h}`, and
+/// the sums `Σ w_k h φ1`, `Σ w_k h φ2` (s^½). Either for the modes one by one
+/// ([`StepCoefficients::new`]), or for the memory as stored ([`StepCoefficients::stored`]),
+/// whose last two modes are then a folded kernel's `A` and `B` ([`crate::effects::Fold`]).
 #[derive(Debug, Clone, PartialEq)]
 pub struct StepCoefficients {
     h: f64,
+    /// Whether these apply to the memory as stored (folded or not).
+    stored: bool,
+    weight: Vec<f64>,
     decay: Vec<f64>,
     phi1: Vec<f64>,
     phi2: Vec<f64>,
@@ -56,31 +71,62 @@ pub struct StepCoefficients {
 }
 
 impl StepCoefficients {
-    /// The coefficients of `kernel` for a segment of `h` (s).
+    /// The coefficients of `kernel`'s modes one by one for a segment of `h` (s).
     pub fn new(kernel: &MemoryKernel, h: f64) -> Self {
-        let n = kernel.modes();
+        Self::of_modes(kernel, kernel.modes(), h, kernel.fold.is_none())
+    }
+
+    /// The coefficients for the memory as stored over a segment of `h` (s): with a folded
+    /// kernel whose fast modes forget their start within `h`, the slow modes one by one, then
+    /// `A` (weight `q1`, moved on to `a0 + (a1 − a0)`) and `B` (weight `−q2`, moved on to
+    /// `(a1 − a0)/h`), neither remembering its start; otherwise [`StepCoefficients::new`], which
+    /// serves the stored memory only when the kernel is not folded.
+    pub fn stored(kernel: &MemoryKernel, h: f64) -> Self {
+        let Some(fold) = kernel.fold.as_ref().filter(|f| f.slowest * h >= FORGOTTEN_IN_A_SEGMENT) else {
+            return Self::new(kernel, h);
+        };
+        let mut c = Self::of_modes(kernel, fold.slow, h, true);
+        c.push(fold.q1, 0.0, 1.0, 1.0);
+        c.push(-fold.q2, 0.0, 0.0, 1.0 / h);
+        c
+    }
+
+    /// The coefficients of `kernel`'s first `n` modes over `h`.
+    fn of_modes(kernel: &MemoryKernel, n: usize, h: f64, stored: bool) -> Self {
         let mut c = StepCoefficients {
             h,
-            decay: Vec::with_capacity(n),
-            phi1: Vec::with_capacity(n),
-            phi2: Vec::with_capacity(n),
-            weight_decayed: Vec::with_capacity(n),
+            stored,
+            weight: Vec::with_capacity(n + 2),
+            decay: Vec::with_capacity(n + 2),
+            phi1: Vec::with_capacity(n + 2),
+            phi2: Vec::with_capacity(n + 2),
+            weight_decayed: Vec::with_capacity(n + 2),
             sum1: 0.0,
             sum2: 0.0,
         };
-        for (&w, &rate) in kernel.sum.weights.iter().zip(&kernel.sum.rates) {
+        for (&w, &rate) in kernel.sum.weights[..n].iter().zip(&kernel.sum.rates[..n]) {
             let z = -rate * h;
             let (p1, p2) = phi12(z);
             // e^z = 1 + z φ1(z): no second exponential.
-            let decay = 1.0 + z * p1;
-            c.decay.push(decay);
-            c.phi1.push(h * p1);
-            c.phi2.push(h * p2);
-            c.weight_decayed.push(w * decay);
-            c.sum1 += w * h * p1;
-            c.sum2 += w * h * p2;
+            c.push(w, 1.0 + z * p1, h * p1, h * p2);
         }
         c
+    }
+
+    /// Appends a mode of weight `w`, decay `e`, and `h φ1`, `h φ2`.
+    fn push(&mut self, w: f64, e: f64, p1: f64, p2: f64) {
+        self.weight.push(w);
+        self.decay.push(e);
+        self.phi1.push(p1);
+        self.phi2.push(p2);
+        self.weight_decayed.push(w * e);
+        self.sum1 += w * p1;
+        self.sum2 += w * p2;
+    }
+
+    /// Whether these serve the memory as stored ([`StepCoefficients::stored`]).
+    pub(super) fn serves_stored(&self) -> bool {
+        self.stored
     }
 
     /// The segment length `h` (s) these coefficients are for.
@@ -88,10 +134,9 @@ impl StepCoefficients {
         self.h
     }
 
-    /// `(Σ_k w_k F_k, Σ_k w_k e^{−λ_k h} F_k)` over a particle's modes `f` (its numbers of the
-    /// memory, by component), with the kernel's weights `w`.
-    pub(super) fn memory_now_and_after(&self, f: &[f64], w: &[f64]) -> (DVec3, DVec3) {
-        mode_sums(f, w, &self.weight_decayed)
+    /// `(Σ_k w_k F_k, Σ_k w_k e^{−λ_k h} F_k)` over a particle's modes `f` (by component).
+    pub(super) fn memory_now_and_after(&self, f: &[f64]) -> (DVec3, DVec3) {
+        mode_sums(f, &self.weight, &self.weight_decayed)
     }
 
     /// `Σ_k w_k h φ1(−λ_k h)` (s^½): how an acceleration constant over `h` adds to the memory.
@@ -189,16 +234,8 @@ impl<M: Motion> Kernel<'_, M> {
         h: f64,
         out: Option<&mut [f64]>,
     ) -> (DVec3, DVec3) {
-        let owned;
-        let co = if h == mem.step.h {
-            &mem.step
-        } else {
-            owned = StepCoefficients::new(mem.kernel, h);
-            &owned
-        };
         let kernel = mem.kernel;
-        let n = kernel.modes();
-        let width = 3 * n;
+        let width = 3 * kernel.stored_modes();
         let start: &[f64] = if seg.memory == NO_MEMORY {
             &[]
         } else {
@@ -207,34 +244,66 @@ impl<M: Motion> Kernel<'_, M> {
         };
         let (x0, v0) = (seg.x, seg.v);
         let l0 = field.eval(x0, v0);
-        if let Some((lub, half)) = &mem.lubrication
-            && let Some(wall) = self.wall_in_reach(lub, (k, r), (x0, v0), l0.total(v0).length(), h)
-        {
-            // Near a wall: the lubricated sub-steps, with the modes carried in `out` (or in a
-            // scratch copy when the caller keeps no memory).
+        let c = mem.kind_rate[k] / r;
+        let near = match &mem.lubrication {
+            Some((lub, half)) => self
+                .wall_in_reach(lub, (k, r), (x0, v0), l0.total(v0).length(), h)
+                .map(|wall| (lub, half, wall)),
+            None => None,
+        };
+        if near.is_none() && h == mem.step.h && mem.step.stored {
+            // A whole step away from walls: on the memory as stored.
+            let co = &mem.step;
+            let sums =
+                if start.is_empty() { (DVec3::ZERO, DVec3::ZERO) } else { co.memory_now_and_after(start) };
+            let end = segment_end(field, (x0, v0), &l0, sums, c, (kernel.short_weight, co));
+            if let Some(out) = out {
+                modes_moved_on(co, start, end.a0, end.a1 - end.a0, out);
+            }
+            return (end.x1, end.v1);
+        }
+        if let Some((lub, half, wall)) = near {
+            // Near a wall: the lubricated sub-steps, with the memory carried along (in `out`, or
+            // in a scratch copy when the caller keeps no memory).
             let mut scratch = Vec::new();
-            let modes = match out {
+            let stored = match out {
                 Some(out) => out,
                 None => {
                     scratch.resize(width, 0.0);
                     &mut scratch[..]
                 }
             };
-            modes.fill(0.0);
-            modes[..start.len()].copy_from_slice(start);
-            let carried = Carried { kernel, modes, c: mem.kind_rate[k] / r, whole: &mem.step, half };
-            return self.substeps(lub, field, (k, r), (seg.x, seg.v), h, wall, Some(carried));
+            if start.is_empty() {
+                stored.fill(0.0);
+            } else {
+                stored.copy_from_slice(start);
+            }
+            let (whole, half) = ((&mem.step, &mem.whole), (&half.0, &half.1));
+            let carried = Carried { kernel, stored, full: Vec::new(), c, whole, half };
+            return self.substeps(lub, field, (k, r), (x0, v0), h, wall, Some(carried));
         }
-        // Σ w_k F_k(0) and Σ w_k e^{−λ_k h} F_k(0): the old accelerations' force now and at h.
-        let sums = if start.is_empty() {
-            (DVec3::ZERO, DVec3::ZERO)
+        // Otherwise the modes one by one: expanded from the memory as stored, and the end folded
+        // back into it.
+        let n = 3 * kernel.modes();
+        let mut modes = vec![0.0; 2 * n];
+        let (begin, end_modes) = modes.split_at_mut(n);
+        if !start.is_empty() {
+            kernel.expand(start, begin);
+        }
+        let owned;
+        let co = if h == mem.whole.h {
+            &mem.whole
         } else {
-            mode_sums(start, &kernel.sum.weights, &co.weight_decayed)
+            owned = StepCoefficients::new(kernel, h);
+            &owned
         };
-        let c = mem.kind_rate[k] / r;
+        let begin: &[f64] = if start.is_empty() { &[] } else { begin };
+        // Σ w_k F_k(0) and Σ w_k e^{−λ_k h} F_k(0): the old accelerations' force now and at h.
+        let sums = if begin.is_empty() { (DVec3::ZERO, DVec3::ZERO) } else { co.memory_now_and_after(begin) };
         let end = segment_end(field, (x0, v0), &l0, sums, c, (kernel.short_weight, co));
         if let Some(out) = out {
-            modes_moved_on(co, start, end.a0, end.a1 - end.a0, out);
+            modes_moved_on(co, begin, end.a0, end.a1 - end.a0, end_modes);
+            kernel.fold(end_modes, out);
         }
         (end.x1, end.v1)
     }
@@ -261,10 +330,10 @@ impl<M: Motion> Kernel<'_, M> {
     ) -> Option<([bool; LANES], DVec3x4, DVec3x4)> {
         let Some(NonLinear::Memory(mem)) = &self.nonlinear else { return None };
         let co = &mem.step;
-        if h != co.h {
+        if h != co.h || !co.stored {
             return None;
         }
-        let width = 3 * mem.kernel.modes();
+        let width = 3 * mem.kernel.stored_modes();
         let r = d * 0.5;
         let l0 = field.eval(x0, v0);
         let mut flown = [true; LANES];
@@ -283,7 +352,7 @@ impl<M: Motion> Kernel<'_, M> {
         // Written out lane by lane, not in a loop or a closure (a call of its own, without the
         // caller's instruction set): the sums then go into the lanes in registers. Through
         // memory, the lanes' wide loads waited on the sums' narrow stores (`perf annotate`).
-        let (w, wd) = (&mem.kernel.sum.weights[..], &co.weight_decayed[..]);
+        let (w, wd) = (&co.weight[..], &co.weight_decayed[..]);
         let s0 = mode_sums_inlined(&starts[..width], w, wd, avx);
         let s1 = mode_sums_inlined(&starts[width..2 * width], w, wd, avx);
         let s2 = mode_sums_inlined(&starts[2 * width..3 * width], w, wd, avx);
@@ -339,4 +408,94 @@ fn segment_end<V: Vector, F: ForceField<V>>(
     let v1 = v0 + (a0 + a1) * (0.5 * h);
     let x1 = x0 + v0 * h + (a0 * (1.0 / 3.0) + a1 * (1.0 / 6.0)) * (h * h);
     SegmentEnd { a0, a1, x1, v1 }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    const DT: f64 = 8.77e-6;
+
+    fn folded() -> MemoryKernel {
+        let mut k = MemoryKernel::new(1.0, 1e-4);
+        k.fold_for_step(DT);
+        k
+    }
+
+    fn close(a: f64, b: f64, rel: f64, what: &str) {
+        assert!((a - b).abs() <= rel * a.abs().max(b.abs()), "{what}: {a} vs {b}");
+    }
+
+    /// A mode that forgets its start within a whole step ends it as `(A − B/λ)/λ`, `A` the
+    /// acceleration at the end and `B` its slope, whatever it held: what the fold stores.
+    #[test]
+    fn fast_modes_end_a_whole_step_as_the_acceleration_and_its_slope() {
+        let k = folded();
+        let f = k.fold.as_ref().expect("folded");
+        let co = StepCoefficients::new(&k, DT);
+        let (a0, da) = (DVec3::new(9.81, -3.0, 0.5), DVec3::new(-2.0, 0.25, 1e-3));
+        let n = k.modes();
+        let start: Vec<f64> = (0..3 * n).map(|i| 1e3 * ((i % 5) as f64 - 2.0)).collect();
+        let mut end = vec![0.0; 3 * n];
+        modes_moved_on(&co, &start, a0, da, &mut end);
+        for c in 0..3 {
+            let (a, b) = ((a0 + da)[c], da[c] / DT);
+            for (j, &l) in k.sum.rates.iter().enumerate().skip(f.slow) {
+                close(end[c * n + j], (a - b / l) / l, 1e-14, &format!("component {c}, mode {j}"));
+            }
+        }
+    }
+
+    /// The stored form of a folded memory reads and moves it as the modes one by one do: the
+    /// same forces now and at the step's end, the same response to the step's own acceleration,
+    /// and the same memory at the end, to round-off.
+    #[test]
+    fn the_stored_form_reads_and_moves_the_memory_as_the_modes_one_by_one() {
+        let k = folded();
+        let (stored_co, full_co) = (StepCoefficients::stored(&k, DT), StepCoefficients::new(&k, DT));
+        assert!(stored_co.stored && !full_co.stored);
+        assert_eq!(stored_co.weight.len(), k.stored_modes());
+        let w = k.stored_modes();
+        let stored: Vec<f64> = (0..3 * w)
+            .map(|i| match i % w {
+                j if j == w - 2 => 9.81 + i as f64,
+                j if j == w - 1 => 3e4 * (i as f64 - 40.0),
+                j => 1e-3 * ((j * 31 % 17) as f64 - 8.0),
+            })
+            .collect();
+        let mut full = vec![0.0; 3 * k.modes()];
+        k.expand(&stored, &mut full);
+        let (now_s, later_s) = stored_co.memory_now_and_after(&stored);
+        let (now_f, later_f) = full_co.memory_now_and_after(&full);
+        for c in 0..3 {
+            close(now_s[c], now_f[c], 1e-13, "now");
+            close(later_s[c], later_f[c], 1e-13, "at the step's end");
+        }
+        close(stored_co.sum1, full_co.sum1, 1e-14, "Σ w h φ1");
+        close(stored_co.sum2, full_co.sum2, 1e-14, "Σ w h φ2");
+        let (a0, da) = (DVec3::new(1.0, -9.81, 0.2), DVec3::new(0.5, 0.05, -0.3));
+        let mut end_stored = vec![0.0; stored.len()];
+        modes_moved_on(&stored_co, &stored, a0, da, &mut end_stored);
+        let mut end_full = vec![0.0; full.len()];
+        modes_moved_on(&full_co, &full, a0, da, &mut end_full);
+        let mut folded_back = vec![0.0; stored.len()];
+        k.fold(&end_full, &mut folded_back);
+        for (i, (a, b)) in end_stored.iter().zip(&folded_back).enumerate() {
+            // `B` is a small part of each fast mode (B/λ against A): the fit gives it to fewer
+            // digits, the modes themselves (below) to round-off.
+            let rel = if i % w == w - 1 { 1e-9 } else { 1e-13 };
+            close(*a, *b, rel, &format!("stored number {i}"));
+        }
+        let mut expanded = vec![0.0; full.len()];
+        k.expand(&end_stored, &mut expanded);
+        let n = k.modes();
+        for (i, (a, b)) in expanded.iter().zip(&end_full).enumerate() {
+            let c = i / n;
+            let size = end_full[c * n..(c + 1) * n].iter().fold(0.0f64, |m, x| m.max(x.abs()));
+            assert!((a - b).abs() <= 1e-13 * size, "mode {i}: {a} vs {b}");
+        }
+        // A step too short for the fast modes to forget their start: the modes one by one.
+        assert!(!StepCoefficients::stored(&k, 0.3 * DT).stored);
+        assert!(StepCoefficients::stored(&k, 0.35 * DT).stored);
+    }
 }

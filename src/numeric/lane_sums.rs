@@ -106,17 +106,29 @@ pub fn lane_update(
         // every slice.
         unsafe {
             let (a4, b4) = (_mm256_set1_pd(a), _mm256_set1_pd(b));
-            for i in (0..done).step_by(4) {
-                let start = match f {
-                    Some(f) => _mm256_fmadd_pd(
-                        a4,
-                        _mm256_loadu_pd(p.as_ptr().add(i)),
-                        _mm256_mul_pd(_mm256_loadu_pd(f.as_ptr().add(i)), _mm256_loadu_pd(e.as_ptr().add(i))),
-                    ),
-                    None => _mm256_mul_pd(a4, _mm256_loadu_pd(p.as_ptr().add(i))),
-                };
-                let end = _mm256_fmadd_pd(b4, _mm256_loadu_pd(q.as_ptr().add(i)), start);
-                _mm256_storeu_pd(o.as_mut_ptr().add(i), end);
+            let (p, q, e, o) = (p.as_ptr(), q.as_ptr(), e.as_ptr(), o.as_mut_ptr());
+            // One loop with a memory and one without, so that neither tests which it is for
+            // every group (the compiler kept that test inside a single loop, and did not unroll
+            // it: 3.2 instructions per number against 1.6, callgrind). No closures: a call of
+            // its own would be compiled without AVX.
+            match f {
+                Some(f) => {
+                    let f = f.as_ptr();
+                    for i in (0..done).step_by(4) {
+                        let start = _mm256_fmadd_pd(
+                            a4,
+                            _mm256_loadu_pd(p.add(i)),
+                            _mm256_mul_pd(_mm256_loadu_pd(f.add(i)), _mm256_loadu_pd(e.add(i))),
+                        );
+                        _mm256_storeu_pd(o.add(i), _mm256_fmadd_pd(b4, _mm256_loadu_pd(q.add(i)), start));
+                    }
+                }
+                None => {
+                    for i in (0..done).step_by(4) {
+                        let start = _mm256_mul_pd(a4, _mm256_loadu_pd(p.add(i)));
+                        _mm256_storeu_pd(o.add(i), _mm256_fmadd_pd(b4, _mm256_loadu_pd(q.add(i)), start));
+                    }
+                }
             }
         }
     }

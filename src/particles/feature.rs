@@ -81,6 +81,16 @@ impl Features {
         }
     }
 
+    /// Puts `feature` in the place of the registered feature of its name (or registers it):
+    /// a feature whose column's width is known only later (the history memory, once the time
+    /// step is).
+    pub fn replace(&mut self, feature: Arc<dyn Feature>) {
+        match self.0.iter_mut().find(|f| f.name() == feature.name()) {
+            Some(f) => *f = feature,
+            None => self.0.push(feature),
+        }
+    }
+
     /// The features, in registration order.
     pub fn iter(&self) -> impl Iterator<Item = &dyn Feature> {
         self.0.iter().map(|f| f.as_ref())

@@ -14,7 +14,7 @@ use super::table::{key_path, line_and_column};
 use super::{LoadOptions, Scene};
 use super::{fill, flow, flux, overlap, walls};
 use crate::contact::BounceRule;
-use crate::effects::{MemoryKernel, Physics, SHORTEST_LAG, build_effect};
+use crate::effects::{MemoryKernel, Physics, SHORTEST_LAG, build_effect, fold_history_for_step};
 use crate::fluid::Fluid;
 use crate::integrate::IntegratorKind;
 use crate::particles::{FrictionMaterial, Material, ParticleKind, Particles};
@@ -120,6 +120,10 @@ pub(super) fn build(
         effects.push(effect);
     }
     let mut physics = Physics::build(&fluid, &kinds, &effects);
+    if dt.is_finite() {
+        // The history memory's fast modes fold for the step (`dt = "auto"`: once chosen, below).
+        fold_history_for_step(&mut physics, dt);
+    }
     for (kind, &held) in kinds.iter_mut().zip(&physics.held_kinds) {
         kind.held_at_contact = held;
     }
@@ -174,7 +178,7 @@ pub(super) fn build(
     let (estimate, estimate_inputs) = super::estimate::estimate(
         &file,
         (duration, output_interval),
-        physics.history.as_ref().map_or(0, |k| k.modes()),
+        physics.history.as_ref().map_or(0, |k| k.stored_modes()),
         &fluid.flow,
     );
     if !options.allow_large_memory {
@@ -219,6 +223,10 @@ pub(super) fn build(
         scene.setup.dt = auto.dt;
         scene.setup.integrator = auto.integrator;
         scene.auto_step = Some(auto);
+        fold_history_for_step(&mut scene.setup.physics, scene.setup.dt);
+        if let Some(kernel) = &scene.setup.physics.history {
+            scene.estimate = scene.estimate.clone().with_history_modes(kernel.stored_modes());
+        }
     }
     // After `dt = "auto"` has chosen: its step is far inside the limit, and this says so.
     check_stable_step(&scene.setup, &scene.particles)?;

@@ -59,7 +59,8 @@ pub struct RunEstimate {
     pub max_particles: f64,
     /// The key that contributes most particles (what to lower).
     pub key: String,
-    /// History modes per particle (0 without the history effect).
+    /// History modes stored per particle, three numbers each (0 without the history effect;
+    /// `MemoryKernel::stored_modes`).
     pub history_modes: usize,
     /// Bytes of a particle in the running simulation.
     pub bytes_per_particle: f64,
@@ -73,6 +74,14 @@ pub struct RunEstimate {
 }
 
 impl RunEstimate {
+    /// The same run with `modes` history modes stored per particle (the memory folded for a
+    /// time step chosen after the estimate, `dt = "auto"`).
+    pub fn with_history_modes(mut self, modes: usize) -> Self {
+        self.bytes_per_particle += MEMORY_COPIES * MODE_BYTES * (modes as f64 - self.history_modes as f64);
+        self.history_modes = modes;
+        self
+    }
+
     /// Bytes of memory of the run: particles at their most, and the flow field.
     pub fn memory_bytes(&self) -> f64 {
         self.max_particles * self.bytes_per_particle + self.field_bytes

@@ -70,7 +70,7 @@ fn another_version_a_cut_and_a_flipped_byte_are_each_named() {
     let mut other = bytes.clone();
     other[8..12].copy_from_slice(&7u32.to_le_bytes());
     let e = refused(&other).to_string();
-    assert!(e.contains("ck.wbck") && e.contains("format version 7") && e.contains("reads version 2"), "{e}");
+    assert!(e.contains("ck.wbck") && e.contains("format version 7") && e.contains("reads version 3"), "{e}");
 
     let e = refused(&bytes[..bytes.len() - 10]).to_string();
     assert!(e.contains("truncated") && e.contains(&format!("{} bytes", bytes.len() - 10)), "{e}");

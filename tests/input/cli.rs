@@ -170,8 +170,9 @@ normal = [0.0, 0.0, 1.0]
 
 #[test]
 fn check_refuses_a_run_whose_memory_exceeds_the_machine_naming_the_count_key_before_placing_a_particle() {
-    // 4e7 beads with a 102-mode history (tolerance 1e-9): 5.2 kB each, 206 GB. Refused from
-    // the counts, before the random fill places any (which would take minutes and the memory).
+    // 4e7 beads with a 102-mode history (tolerance 1e-9), 76 stored at this Δt: 3.9 kB each,
+    // 156 GB. Refused from the counts, before the random fill places any (which would take
+    // minutes and the memory).
     let fill = "[[random_fill]]\nkind = \"glass\"\ndiameter = 1e-4\nmin = [-10.0, -10.0, 0.0]\n\
                 max = [10.0, 10.0, 1.0]\ncount = 40000000\nseed = 1";
     let (_dir, path) = scene_file(&beads_scene("0.1", "history = { tolerance = 1e-9 }", fill));
@@ -180,9 +181,9 @@ fn check_refuses_a_run_whose_memory_exceeds_the_machine_naming_the_count_key_bef
     let stderr = String::from_utf8_lossy(&out.stderr);
     assert!(!out.status.success(), "{stderr}");
     assert!(start.elapsed().as_secs_f64() < 30.0, "took {:?}", start.elapsed());
-    assert!(stderr.contains("random_fill[0].count: the run would need about 206 GB of memory"), "{stderr}");
+    assert!(stderr.contains("random_fill[0].count: the run would need about 156 GB of memory"), "{stderr}");
     assert!(
-        stderr.contains("up to 4e7 particles × 5.15 kB each, 4.90 kB of it the history effect's 102 modes"),
+        stderr.contains("up to 4e7 particles × 3.90 kB each, 3.65 kB of it the history effect's 76 modes"),
         "{stderr}"
     );
     assert!(
