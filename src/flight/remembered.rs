@@ -25,7 +25,7 @@ use super::lubricated::{Carried, Lubrication};
 use super::{Kernel, Motion, NO_MEMORY, NonLinear, Segment};
 use crate::effects::{FORGOTTEN_IN_A_SEGMENT, MemoryKernel};
 use crate::integrate::{ForceField, Linear, phi12};
-use crate::numeric::lane_sums::{Avx, lane_sums, lane_update};
+use crate::numeric::lane_sums::{Avx, component_sums, component_update};
 use crate::numeric::lanes::{DVec3x4, F64x4, LANES, Real, Vector, each};
 use glam::DVec3;
 use multiversion::{multiversion, target::selected_target};
@@ -158,41 +158,19 @@ impl StepCoefficients {
     }
 }
 
-/// The loops over one component of a particle's modes (contiguous, `n` numbers) go by lane
-/// groups of four ([`lane_sums`]), the last `n mod 4` one by one. Sums are kept per lane and
-/// added in a fixed order at the end, so the result is the same on every target.
-#[inline(always)]
-fn groups(x: &[f64]) -> (&[[f64; 4]], &[f64]) {
-    x.as_chunks::<4>()
-}
-
-/// `(Σ_k a_k F_k, Σ_k b_k F_k)` for one component `f` of a particle's modes.
-#[inline(always)]
-fn dot2(f: &[f64], a: &[f64], b: &[f64], avx: Avx) -> (f64, f64) {
-    let n = f.len();
-    let ((fg, fr), (ag, ar), (bg, br)) = (groups(f), groups(&a[..n]), groups(&b[..n]));
-    let (sa, sb) = lane_sums(fg, (ag, bg), avx);
-    let lanes = |s: [f64; 4]| (s[0] + s[1]) + (s[2] + s[3]);
-    let (mut ta, mut tb) = (lanes(sa), lanes(sb));
-    for ((f, a), b) in fr.iter().zip(ar).zip(br) {
-        ta = a.mul_add(*f, ta);
-        tb = b.mul_add(*f, tb);
-    }
-    (ta, tb)
-}
-
 /// `(Σ_k a_k F_k, Σ_k b_k F_k)` over a particle's modes `f` (its numbers of the memory).
 #[multiversion(targets("x86_64+avx2+fma"))]
 fn mode_sums(f: &[f64], a: &[f64], b: &[f64]) -> (DVec3, DVec3) {
     mode_sums_inlined(f, a, b, Avx::of(selected_target!()))
 }
 
-/// [`mode_sums`], inlined into a caller compiled for its own instruction set (`avx` says which).
+/// [`mode_sums`], inlined into a caller compiled for its own instruction set (`avx` says which):
+/// the three components in one pass by lane groups of four ([`component_sums`]), the sums kept
+/// per lane and added in a fixed order, so the result is the same on every target.
 #[inline(always)]
 fn mode_sums_inlined(f: &[f64], a: &[f64], b: &[f64], avx: Avx) -> (DVec3, DVec3) {
-    let n = f.len() / 3;
-    let (x, y, z) = (dot2(&f[..n], a, b, avx), dot2(&f[n..2 * n], a, b, avx), dot2(&f[2 * n..], a, b, avx));
-    (DVec3::new(x.0, y.0, z.0), DVec3::new(x.1, y.1, z.1))
+    let (sa, sb) = component_sums(f, (a, b), avx);
+    (DVec3::from_array(sa), DVec3::from_array(sb))
 }
 
 /// The modes at the end of a segment, into `out`: `F_k(h) = e^{−λ_k h} F_k(0) + a0 h φ1 +
@@ -212,14 +190,8 @@ fn modes_moved_on_inlined(
     out: &mut [f64],
     avx: Avx,
 ) {
-    let n = out.len() / 3;
-    let (ox, rest) = out.split_at_mut(n);
-    let (oy, oz) = rest.split_at_mut(n);
-    let part = |c: usize| if start.is_empty() { &start[..0] } else { &start[c * n..(c + 1) * n] };
     let (e, p1, p2) = (&co.decay[..], &co.phi1[..], &co.phi2[..]);
-    lane_update(ox, (part(0), e), (a0.x, p1), (da.x, p2), avx);
-    lane_update(oy, (part(1), e), (a0.y, p1), (da.y, p2), avx);
-    lane_update(oz, (part(2), e), (a0.z, p1), (da.z, p2), avx);
+    component_update(out, (start, e), (a0.to_array(), p1), (da.to_array(), p2), avx);
 }
 
 impl<M: Motion> Kernel<'_, M> {

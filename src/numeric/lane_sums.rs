@@ -1,8 +1,9 @@
 //! The history effect's two sweeps along a particle's own array of numbers (its memory modes,
-//! by component), by lane groups of four: [`lane_sums`], two sums of products, each kept as
-//! four running sums, one per lane, in the order of the array; and [`lane_update`], each
-//! number moved on by three products. Every product is added by a fused multiply-add (one
-//! rounding), so the same operations give the same bits on every processor.
+//! the three components one after the other), by lane groups of four, all three components in
+//! one pass: [`component_sums`], two sums of products per component, each kept as four running
+//! sums, one per lane, in the order of the array; and [`component_update`], each number moved
+//! on by three products. Every product is added by a fused multiply-add (one rounding), so the
+//! same operations give the same bits on every processor.
 //!
 //! Unlike [`super::lanes`] (four particles side by side, whose plain arrays the compiler turns
 //! into vectors of the calling function's width), a sum along one array defeats the compiler:
@@ -14,13 +15,18 @@
 //! the processor has them ([`Avx`]); elsewhere each number goes by `f64::mul_add`, the same
 //! fused operation (an instruction where the processor has one, the C library's `fma`
 //! otherwise): the same bits either way.
+//!
+//! The three components go through one loop, not one each: each loop's set-up, last group and
+//! the adding up of its lanes cost about forty instructions, as much as the loop itself over
+//! 28 modes (callgrind, `tools/roofline/by_execution_count.py`), and the coefficients are
+//! loaded once for the three.
 
 use multiversion::target::TargetFeatures;
 
-/// Whether [`lane_sums`] and [`lane_update`] may use AVX with FMA. Made by [`Avx::of`] from the
-/// target a `multiversion` copy of the calling function is compiled for (`selected_target!()`:
-/// a constant there, so the other way is compiled out) and whether the processor has both (so
-/// their instructions never run where it has not).
+/// Whether [`component_sums`] and [`component_update`] may use AVX with FMA. Made by
+/// [`Avx::of`] from the target a `multiversion` copy of the calling function is compiled for
+/// (`selected_target!()`: a constant there, so the other way is compiled out) and whether the
+/// processor has both (so their instructions never run where it has not).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct Avx(bool);
 
@@ -47,53 +53,99 @@ impl Avx {
     pub const NONE: Avx = Avx(false);
 }
 
-/// The four lane sums `s_j = Σ_g a[g][j] f[g][j]` and the four `t_j = Σ_g b[g][j] f[g][j]`,
-/// each in the order of `g`, each term added by a fused multiply-add: two sums in one pass
-/// over `f`.
+/// For each component `c` of `f` (`3 n` numbers, the components one after the other), the two
+/// sums `Σ_i a_i f[c n + i]` and `Σ_i b_i f[c n + i]`: each over the groups of four as four lane
+/// sums in the order of the groups, the lanes added as `(s0 + s1) + (s2 + s3)`, then the last
+/// `n mod 4` terms in order; every term added by a fused multiply-add. `a` and `b` hold at
+/// least `n` numbers.
 #[inline(always)]
-pub fn lane_sums(f: &[[f64; 4]], (a, b): (&[[f64; 4]], &[[f64; 4]]), avx: Avx) -> ([f64; 4], [f64; 4]) {
-    let (mut sa, mut sb) = ([0.0; 4], [0.0; 4]);
+pub fn component_sums(f: &[f64], (a, b): (&[f64], &[f64]), avx: Avx) -> ([f64; 3], [f64; 3]) {
+    let n = f.len() / 3;
+    let (a, b, f) = (&a[..n], &b[..n], &f[..3 * n]);
+    let done = n / 4 * 4;
+    let (mut sa, mut sb) = ([0.0; 3], [0.0; 3]);
+    let mut portable = true;
     #[cfg(target_arch = "x86_64")]
     if avx.0 {
-        use std::arch::x86_64::{_mm256_fmadd_pd, _mm256_loadu_pd, _mm256_setzero_pd, _mm256_storeu_pd};
+        use std::arch::x86_64::{
+            __m256d, _mm_add_pd, _mm_storeu_pd, _mm256_castpd256_pd128, _mm256_extractf128_pd,
+            _mm256_fmadd_pd, _mm256_hadd_pd, _mm256_loadu_pd, _mm256_setzero_pd,
+        };
+        portable = false;
         // SAFETY: `Avx(true)` is made only where the processor has AVX and FMA (`Avx::of`);
-        // every pointer is to an array of four f64s.
+        // every load is of four f64s at an index below `done ≤ n` into `a` and `b` (length
+        // `n`) and into each component of `f` (length `3 n`).
         unsafe {
-            let (mut s, mut t) = (_mm256_setzero_pd(), _mm256_setzero_pd());
-            for ((f, a), b) in f.iter().zip(a).zip(b) {
-                let f = _mm256_loadu_pd(f.as_ptr());
-                s = _mm256_fmadd_pd(_mm256_loadu_pd(a.as_ptr()), f, s);
-                t = _mm256_fmadd_pd(_mm256_loadu_pd(b.as_ptr()), f, t);
+            let (fp, ap, bp) = (f.as_ptr(), a.as_ptr(), b.as_ptr());
+            let (fy, fz) = (fp.add(n), fp.add(2 * n));
+            let zero = _mm256_setzero_pd();
+            let (mut sx, mut tx, mut sy, mut ty, mut sz, mut tz) = (zero, zero, zero, zero, zero, zero);
+            for i in (0..done).step_by(4) {
+                let (a4, b4) = (_mm256_loadu_pd(ap.add(i)), _mm256_loadu_pd(bp.add(i)));
+                let x = _mm256_loadu_pd(fp.add(i));
+                sx = _mm256_fmadd_pd(a4, x, sx);
+                tx = _mm256_fmadd_pd(b4, x, tx);
+                let y = _mm256_loadu_pd(fy.add(i));
+                sy = _mm256_fmadd_pd(a4, y, sy);
+                ty = _mm256_fmadd_pd(b4, y, ty);
+                let z = _mm256_loadu_pd(fz.add(i));
+                sz = _mm256_fmadd_pd(a4, z, sz);
+                tz = _mm256_fmadd_pd(b4, z, tz);
             }
-            _mm256_storeu_pd(sa.as_mut_ptr(), s);
-            _mm256_storeu_pd(sb.as_mut_ptr(), t);
+            // `hadd(s, t)` is `[s0 + s1, t0 + t1, s2 + s3, t2 + t3]`; its halves added, the
+            // lanes of both sums in the order above. A loop, not a closure (which could be a
+            // call of its own, compiled without AVX).
+            for (c, (s, t)) in [(sx, tx), (sy, ty), (sz, tz)].into_iter().enumerate() {
+                let h: __m256d = _mm256_hadd_pd(s, t);
+                let mut st = [0.0; 2];
+                _mm_storeu_pd(
+                    st.as_mut_ptr(),
+                    _mm_add_pd(_mm256_castpd256_pd128(h), _mm256_extractf128_pd(h, 1)),
+                );
+                [sa[c], sb[c]] = st;
+            }
         }
-        return (sa, sb);
     }
-    let _ = avx;
-    for ((f, a), b) in f.iter().zip(a).zip(b) {
-        for j in 0..4 {
-            sa[j] = a[j].mul_add(f[j], sa[j]);
-            sb[j] = b[j].mul_add(f[j], sb[j]);
+    if portable {
+        let _ = avx;
+        for c in 0..3 {
+            let (mut s, mut t) = ([0.0; 4], [0.0; 4]);
+            for i in (0..done).step_by(4) {
+                for j in 0..4 {
+                    s[j] = a[i + j].mul_add(f[c * n + i + j], s[j]);
+                    t[j] = b[i + j].mul_add(f[c * n + i + j], t[j]);
+                }
+            }
+            sa[c] = (s[0] + s[1]) + (s[2] + s[3]);
+            sb[c] = (t[0] + t[1]) + (t[2] + t[3]);
+        }
+    }
+    for c in 0..3 {
+        for i in done..n {
+            sa[c] = a[i].mul_add(f[c * n + i], sa[c]);
+            sb[c] = b[i].mul_add(f[c * n + i], sb[c]);
         }
     }
     (sa, sb)
 }
 
-/// `o_i = f_i e_i + a p_i + b q_i` for every `i`, as `fma(b, q_i, fma(a, p_i, f_i e_i))`; without
-/// `f` (an empty array), `o_i = fma(b, q_i, a p_i)`. Every slice is at least as long as `o`.
-/// By groups of four in AVX with FMA, the last `len mod 4` one by one (the same operations).
+/// For each component `c` of `o` (`3 n` numbers, the components one after the other)
+/// `o[c n + i] = f[c n + i] e_i + a_c p_i + b_c q_i`, as `fma(b_c, q_i, fma(a_c, p_i, f e_i))`;
+/// without `f` (an empty array), `fma(b_c, q_i, a_c p_i)`. `f` (when given) is as long as `o`,
+/// `e`, `p` and `q` hold at least `n` numbers. By groups of four in AVX with FMA, the last
+/// `n mod 4` one by one (the same operations).
 #[inline(always)]
-pub fn lane_update(
+pub fn component_update(
     o: &mut [f64],
     (f, e): (&[f64], &[f64]),
-    (a, p): (f64, &[f64]),
-    (b, q): (f64, &[f64]),
+    (a, p): ([f64; 3], &[f64]),
+    (b, q): ([f64; 3], &[f64]),
     avx: Avx,
 ) {
-    let n = o.len();
+    let n = o.len() / 3;
+    let o = &mut o[..3 * n];
     let (p, q, e) = (&p[..n], &q[..n], &e[..n]);
-    let f = if f.is_empty() { None } else { Some(&f[..n]) };
+    let f = if f.is_empty() { None } else { Some(&f[..3 * n]) };
     let mut done = 0;
     #[cfg(target_arch = "x86_64")]
     if avx.0 {
@@ -102,31 +154,39 @@ pub fn lane_update(
         };
         done = n / 4 * 4;
         // SAFETY: `Avx(true)` is made only where the processor has AVX and FMA (`Avx::of`);
-        // every load and store is of four f64s at an index below `done ≤ n`, the length of
-        // every slice.
+        // every load and store is of four f64s at an index below `done ≤ n` into `e`, `p`, `q`
+        // (length `n`) and into each component of `f` and `o` (length `3 n`).
         unsafe {
-            let (a4, b4) = (_mm256_set1_pd(a), _mm256_set1_pd(b));
-            let (p, q, e, o) = (p.as_ptr(), q.as_ptr(), e.as_ptr(), o.as_mut_ptr());
+            let (ax, ay, az) = (_mm256_set1_pd(a[0]), _mm256_set1_pd(a[1]), _mm256_set1_pd(a[2]));
+            let (bx, by, bz) = (_mm256_set1_pd(b[0]), _mm256_set1_pd(b[1]), _mm256_set1_pd(b[2]));
+            let (p, q, e) = (p.as_ptr(), q.as_ptr(), e.as_ptr());
+            let ox = o.as_mut_ptr();
+            let (oy, oz) = (ox.add(n), ox.add(2 * n));
             // One loop with a memory and one without, so that neither tests which it is for
             // every group (the compiler kept that test inside a single loop, and did not unroll
             // it: 3.2 instructions per number against 1.6, callgrind). No closures: a call of
             // its own would be compiled without AVX.
             match f {
                 Some(f) => {
-                    let f = f.as_ptr();
+                    let fx = f.as_ptr();
+                    let (fy, fz) = (fx.add(n), fx.add(2 * n));
                     for i in (0..done).step_by(4) {
-                        let start = _mm256_fmadd_pd(
-                            a4,
-                            _mm256_loadu_pd(p.add(i)),
-                            _mm256_mul_pd(_mm256_loadu_pd(f.add(i)), _mm256_loadu_pd(e.add(i))),
-                        );
-                        _mm256_storeu_pd(o.add(i), _mm256_fmadd_pd(b4, _mm256_loadu_pd(q.add(i)), start));
+                        let (e4, p4, q4) =
+                            (_mm256_loadu_pd(e.add(i)), _mm256_loadu_pd(p.add(i)), _mm256_loadu_pd(q.add(i)));
+                        let x = _mm256_fmadd_pd(ax, p4, _mm256_mul_pd(_mm256_loadu_pd(fx.add(i)), e4));
+                        _mm256_storeu_pd(ox.add(i), _mm256_fmadd_pd(bx, q4, x));
+                        let y = _mm256_fmadd_pd(ay, p4, _mm256_mul_pd(_mm256_loadu_pd(fy.add(i)), e4));
+                        _mm256_storeu_pd(oy.add(i), _mm256_fmadd_pd(by, q4, y));
+                        let z = _mm256_fmadd_pd(az, p4, _mm256_mul_pd(_mm256_loadu_pd(fz.add(i)), e4));
+                        _mm256_storeu_pd(oz.add(i), _mm256_fmadd_pd(bz, q4, z));
                     }
                 }
                 None => {
                     for i in (0..done).step_by(4) {
-                        let start = _mm256_mul_pd(a4, _mm256_loadu_pd(p.add(i)));
-                        _mm256_storeu_pd(o.add(i), _mm256_fmadd_pd(b4, _mm256_loadu_pd(q.add(i)), start));
+                        let (p4, q4) = (_mm256_loadu_pd(p.add(i)), _mm256_loadu_pd(q.add(i)));
+                        _mm256_storeu_pd(ox.add(i), _mm256_fmadd_pd(bx, q4, _mm256_mul_pd(ax, p4)));
+                        _mm256_storeu_pd(oy.add(i), _mm256_fmadd_pd(by, q4, _mm256_mul_pd(ay, p4)));
+                        _mm256_storeu_pd(oz.add(i), _mm256_fmadd_pd(bz, q4, _mm256_mul_pd(az, p4)));
                     }
                 }
             }
@@ -134,12 +194,14 @@ pub fn lane_update(
     }
     let _ = avx;
     // Written out, not in a closure: a call of its own would be compiled without FMA.
-    for i in done..n {
-        let start = match f {
-            Some(f) => a.mul_add(p[i], f[i] * e[i]),
-            None => a * p[i],
-        };
-        o[i] = b.mul_add(q[i], start);
+    for c in 0..3 {
+        for i in done..n {
+            let start = match f {
+                Some(f) => a[c].mul_add(p[i], f[c * n + i] * e[i]),
+                None => a[c] * p[i],
+            };
+            o[c * n + i] = b[c].mul_add(q[i], start);
+        }
     }
 }
 
@@ -162,41 +224,60 @@ mod tests {
     }
 
     #[test]
-    fn avx_and_portable_lane_sums_are_the_same_bits() {
-        // Numbers whose sums round differently in another order, or unfused.
-        let f: Vec<[f64; 4]> =
-            (0..37).map(|i| [1e16 / (i + 1) as f64, 0.1 * i as f64, -3.3, 1.0 / 3.0]).collect();
-        let a: Vec<[f64; 4]> = (0..37).map(|i| [0.7, 1e-3 * i as f64, 1.0 + 1e-16 * i as f64, 7.0]).collect();
-        let b: Vec<[f64; 4]> = a.iter().map(|a| a.map(|x| 1.0 - x / 3.0)).collect();
-        let portable = lane_sums(&f, (&a, &b), Avx::NONE);
-        let mut by_hand = ([0.0; 4], [0.0; 4]);
-        for ((f, a), b) in f.iter().zip(&a).zip(&b) {
-            for j in 0..4 {
-                by_hand.0[j] = a[j].mul_add(f[j], by_hand.0[j]);
-                by_hand.1[j] = b[j].mul_add(f[j], by_hand.1[j]);
+    fn avx_and_portable_component_sums_are_the_same_bits_as_by_hand() {
+        // Numbers whose sums round differently in another order, or unfused; 37 per component,
+        // so nine groups of four and one left over.
+        let n = 37;
+        let f: Vec<f64> = (0..3 * n)
+            .map(|k| match k % 4 {
+                0 => 1e16 / (k + 1) as f64,
+                1 => 0.1 * k as f64,
+                2 => -3.3,
+                _ => 1.0 / 3.0,
+            })
+            .collect();
+        let a: Vec<f64> =
+            (0..n).map(|i| [0.7, 1e-3 * i as f64, 1.0 + 1e-16 * i as f64, 7.0][i % 4]).collect();
+        let b: Vec<f64> = a.iter().map(|x| 1.0 - x / 3.0).collect();
+        let mut by_hand = ([0.0; 3], [0.0; 3]);
+        for c in 0..3 {
+            let (mut s, mut t) = ([0.0; 4], [0.0; 4]);
+            for i in 0..n / 4 * 4 {
+                s[i % 4] = a[i].mul_add(f[c * n + i], s[i % 4]);
+                t[i % 4] = b[i].mul_add(f[c * n + i], t[i % 4]);
             }
+            let (mut s, mut t) = ((s[0] + s[1]) + (s[2] + s[3]), (t[0] + t[1]) + (t[2] + t[3]));
+            for i in n / 4 * 4..n {
+                s = a[i].mul_add(f[c * n + i], s);
+                t = b[i].mul_add(f[c * n + i], t);
+            }
+            (by_hand.0[c], by_hand.1[c]) = (s, t);
         }
-        let both = |(s, t): ([f64; 4], [f64; 4])| (bits(&s), bits(&t));
+        let both = |(s, t): ([f64; 3], [f64; 3])| (bits(&s), bits(&t));
+        let portable = component_sums(&f, (&a, &b), Avx::NONE);
         assert_eq!(both(portable), both(by_hand));
-        assert_eq!(both(lane_sums(&f, (&a, &b), Avx::of(everything()))), both(portable));
+        assert_eq!(both(component_sums(&f, (&a, &b), Avx::of(everything()))), both(portable));
     }
 
     #[test]
     fn avx_and_portable_updates_are_the_same_bits_with_and_without_a_memory() {
         let n = 37;
-        let f: Vec<f64> = (0..n).map(|i| 1e8 / (i + 1) as f64 + 0.1).collect();
+        let f: Vec<f64> = (0..3 * n).map(|i| 1e8 / (i + 1) as f64 + 0.1).collect();
         let e: Vec<f64> = (0..n).map(|i| (-(i as f64) / 3.0).exp()).collect();
         let p: Vec<f64> = (0..n).map(|i| 1.0 / 3.0 + 1e-3 * i as f64).collect();
         let q: Vec<f64> = p.iter().map(|p| 0.5 * p - 1e-17).collect();
-        let (a, b) = (9.81 / 7.0, -2.0 / 3.0);
+        let (a, b) = ([9.81 / 7.0, -1.0 / 3.0, 1e-9], [-2.0 / 3.0, 0.1, 7.0]);
         for start in [&f[..], &[]] {
-            let (mut portable, mut avx) = (vec![0.0; n], vec![0.0; n]);
-            lane_update(&mut portable, (start, &e), (a, &p), (b, &q), Avx::NONE);
-            lane_update(&mut avx, (start, &e), (a, &p), (b, &q), Avx::of(everything()));
-            let by_hand: Vec<f64> = (0..n)
-                .map(|i| match start.is_empty() {
-                    true => b.mul_add(q[i], a * p[i]),
-                    false => b.mul_add(q[i], a.mul_add(p[i], f[i] * e[i])),
+            let (mut portable, mut avx) = (vec![0.0; 3 * n], vec![0.0; 3 * n]);
+            component_update(&mut portable, (start, &e), (a, &p), (b, &q), Avx::NONE);
+            component_update(&mut avx, (start, &e), (a, &p), (b, &q), Avx::of(everything()));
+            let by_hand: Vec<f64> = (0..3 * n)
+                .map(|k| {
+                    let (c, i) = (k / n, k % n);
+                    match start.is_empty() {
+                        true => b[c].mul_add(q[i], a[c] * p[i]),
+                        false => b[c].mul_add(q[i], a[c].mul_add(p[i], f[k] * e[i])),
+                    }
                 })
                 .collect();
             assert_eq!(bits(&portable), bits(&by_hand));

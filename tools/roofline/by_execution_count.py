@@ -31,6 +31,12 @@ def costs_by_address(path, name):
             else:
                 current = line[3:]
             continue
+        if line.startswith("cfn="):
+            # A name may be given first where the function is called (name compression).
+            m = re.match(r"cfn=\((\d+)\) (.*)", line)
+            if m:
+                names[m.group(1)] = m.group(2)
+            continue
         if line.startswith("calls="):
             after_call = True  # the next cost line is the call's inclusive cost
             continue
