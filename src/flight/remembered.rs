@@ -25,7 +25,9 @@ use super::lubricated::{Carried, Lubrication};
 use super::{Kernel, Motion, NO_MEMORY, NonLinear, Segment};
 use crate::effects::{FORGOTTEN_IN_A_SEGMENT, MemoryKernel};
 use crate::integrate::{ForceField, Linear, phi12};
-use crate::numeric::lane_sums::{Avx, component_sums, component_update};
+use crate::numeric::lane_sums::{
+    Avx, component_sums, component_sums_of_four, component_update, component_update_of_four,
+};
 use crate::numeric::lanes::{DVec3x4, F64x4, LANES, Real, Vector, each};
 use glam::DVec3;
 use multiversion::{multiversion, target::selected_target};
@@ -321,24 +323,17 @@ impl<M: Motion> Kernel<'_, M> {
             }
         }
         let starts = &mem.start[first * width..(first + LANES) * width];
-        // Written out lane by lane, not in a loop or a closure (a call of its own, without the
-        // caller's instruction set): the sums then go into the lanes in registers. Through
-        // memory, the lanes' wide loads waited on the sums' narrow stores (`perf annotate`).
-        let (w, wd) = (&co.weight[..], &co.weight_decayed[..]);
-        let s0 = mode_sums_inlined(&starts[..width], w, wd, avx);
-        let s1 = mode_sums_inlined(&starts[width..2 * width], w, wd, avx);
-        let s2 = mode_sums_inlined(&starts[2 * width..3 * width], w, wd, avx);
-        let s3 = mode_sums_inlined(&starts[3 * width..], w, wd, avx);
-        let now = DVec3x4::from_array([s0.0, s1.0, s2.0, s3.0]);
-        let later = DVec3x4::from_array([s0.1, s1.1, s2.1, s3.1]);
+        // The sums come as lanes, and the update takes them as lanes: the four beads' numbers
+        // are not moved about between the sweeps and the lane group's balance.
+        let (now, later) = component_sums_of_four(starts, (&co.weight, &co.weight_decayed), avx);
+        let now = DVec3x4 { x: F64x4(now[0]), y: F64x4(now[1]), z: F64x4(now[2]) };
+        let later = DVec3x4 { x: F64x4(later[0]), y: F64x4(later[1]), z: F64x4(later[2]) };
         let c = F64x4(each(k, |k| mem.kind_rate[k as usize])) / r;
         let end = segment_end(field, (x0, v0), &l0, (now, later), c, (mem.kernel.short_weight, co));
-        let (a0, da) = (end.a0.to_array(), (end.a1 - end.a0).to_array());
-        for (i, (start, out)) in starts.chunks_exact(width).zip(out.chunks_exact_mut(width)).enumerate() {
-            if flown[i] {
-                modes_moved_on_inlined(co, start, a0[i], da[i], out, avx);
-            }
-        }
+        let (a0, da) = (end.a0, end.a1 - end.a0);
+        let (a0, da) = ([a0.x.0, a0.y.0, a0.z.0], [da.x.0, da.y.0, da.z.0]);
+        let (e, p1, p2) = (&co.decay[..], &co.phi1[..], &co.phi2[..]);
+        component_update_of_four(out, (starts, e), (a0, p1), (da, p2), flown, avx);
         Some((flown, end.x1, end.v1))
     }
 }
