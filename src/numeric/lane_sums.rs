@@ -60,10 +60,27 @@ impl Avx {
 /// least `n` numbers.
 #[inline(always)]
 pub fn component_sums(f: &[f64], (a, b): (&[f64], &[f64]), avx: Avx) -> ([f64; 3], [f64; 3]) {
-    let n = f.len() / 3;
-    let (a, b, f) = (&a[..n], &b[..n], &f[..3 * n]);
+    component_sums_of([f], (a, b), avx)[0]
+}
+
+/// [`component_sums`] of `B` particles' memories `fs` (each `3 n` numbers) in one pass: each
+/// group of `a` and `b` is loaded once for all of them. The same operations particle by
+/// particle, so the same bits as one at a time. Two particles at once keep their twelve running
+/// sums, the two coefficients and a number of the memory in the sixteen AVX registers.
+#[inline(always)]
+pub fn component_sums_of<const B: usize>(
+    fs: [&[f64]; B],
+    (a, b): (&[f64], &[f64]),
+    avx: Avx,
+) -> [([f64; 3], [f64; 3]); B] {
+    let n = fs[0].len() / 3;
+    let (a, b) = (&a[..n], &b[..n]);
+    let mut f = [&fs[0][..0]; B];
+    for j in 0..B {
+        f[j] = &fs[j][..3 * n];
+    }
     let done = n / 4 * 4;
-    let (mut sa, mut sb) = ([0.0; 3], [0.0; 3]);
+    let mut sums = [([0.0; 3], [0.0; 3]); B];
     let mut portable = true;
     #[cfg(target_arch = "x86_64")]
     if avx.0 {
@@ -74,59 +91,63 @@ pub fn component_sums(f: &[f64], (a, b): (&[f64], &[f64]), avx: Avx) -> ([f64; 3
         portable = false;
         // SAFETY: `Avx(true)` is made only where the processor has AVX and FMA (`Avx::of`);
         // every load is of four f64s at an index below `done ≤ n` into `a` and `b` (length
-        // `n`) and into each component of `f` (length `3 n`).
+        // `n`) and into each component of each `f[j]` (length `3 n`).
         unsafe {
-            let (fp, ap, bp) = (f.as_ptr(), a.as_ptr(), b.as_ptr());
-            let (fy, fz) = (fp.add(n), fp.add(2 * n));
-            let zero = _mm256_setzero_pd();
-            let (mut sx, mut tx, mut sy, mut ty, mut sz, mut tz) = (zero, zero, zero, zero, zero, zero);
+            let (ap, bp) = (a.as_ptr(), b.as_ptr());
+            // Per particle and component, the running sums with `a` and with `b`.
+            let mut acc: [[(__m256d, __m256d); 3]; B] = [[(_mm256_setzero_pd(), _mm256_setzero_pd()); 3]; B];
             for i in (0..done).step_by(4) {
                 let (a4, b4) = (_mm256_loadu_pd(ap.add(i)), _mm256_loadu_pd(bp.add(i)));
-                let x = _mm256_loadu_pd(fp.add(i));
-                sx = _mm256_fmadd_pd(a4, x, sx);
-                tx = _mm256_fmadd_pd(b4, x, tx);
-                let y = _mm256_loadu_pd(fy.add(i));
-                sy = _mm256_fmadd_pd(a4, y, sy);
-                ty = _mm256_fmadd_pd(b4, y, ty);
-                let z = _mm256_loadu_pd(fz.add(i));
-                sz = _mm256_fmadd_pd(a4, z, sz);
-                tz = _mm256_fmadd_pd(b4, z, tz);
+                for j in 0..B {
+                    for c in 0..3 {
+                        let x = _mm256_loadu_pd(f[j].as_ptr().add(c * n + i));
+                        let (s, t) = acc[j][c];
+                        acc[j][c] = (_mm256_fmadd_pd(a4, x, s), _mm256_fmadd_pd(b4, x, t));
+                    }
+                }
             }
             // `hadd(s, t)` is `[s0 + s1, t0 + t1, s2 + s3, t2 + t3]`; its halves added, the
             // lanes of both sums in the order above. A loop, not a closure (which could be a
             // call of its own, compiled without AVX).
-            for (c, (s, t)) in [(sx, tx), (sy, ty), (sz, tz)].into_iter().enumerate() {
-                let h: __m256d = _mm256_hadd_pd(s, t);
-                let mut st = [0.0; 2];
-                _mm_storeu_pd(
-                    st.as_mut_ptr(),
-                    _mm_add_pd(_mm256_castpd256_pd128(h), _mm256_extractf128_pd(h, 1)),
-                );
-                [sa[c], sb[c]] = st;
+            for j in 0..B {
+                for c in 0..3 {
+                    let (s, t) = acc[j][c];
+                    let h: __m256d = _mm256_hadd_pd(s, t);
+                    let mut st = [0.0; 2];
+                    _mm_storeu_pd(
+                        st.as_mut_ptr(),
+                        _mm_add_pd(_mm256_castpd256_pd128(h), _mm256_extractf128_pd(h, 1)),
+                    );
+                    [sums[j].0[c], sums[j].1[c]] = st;
+                }
             }
         }
     }
     if portable {
         let _ = avx;
-        for c in 0..3 {
-            let (mut s, mut t) = ([0.0; 4], [0.0; 4]);
-            for i in (0..done).step_by(4) {
-                for j in 0..4 {
-                    s[j] = a[i + j].mul_add(f[c * n + i + j], s[j]);
-                    t[j] = b[i + j].mul_add(f[c * n + i + j], t[j]);
+        for j in 0..B {
+            for c in 0..3 {
+                let (mut s, mut t) = ([0.0; 4], [0.0; 4]);
+                for i in (0..done).step_by(4) {
+                    for l in 0..4 {
+                        s[l] = a[i + l].mul_add(f[j][c * n + i + l], s[l]);
+                        t[l] = b[i + l].mul_add(f[j][c * n + i + l], t[l]);
+                    }
                 }
+                sums[j].0[c] = (s[0] + s[1]) + (s[2] + s[3]);
+                sums[j].1[c] = (t[0] + t[1]) + (t[2] + t[3]);
             }
-            sa[c] = (s[0] + s[1]) + (s[2] + s[3]);
-            sb[c] = (t[0] + t[1]) + (t[2] + t[3]);
         }
     }
-    for c in 0..3 {
-        for i in done..n {
-            sa[c] = a[i].mul_add(f[c * n + i], sa[c]);
-            sb[c] = b[i].mul_add(f[c * n + i], sb[c]);
+    for j in 0..B {
+        for c in 0..3 {
+            for i in done..n {
+                sums[j].0[c] = a[i].mul_add(f[j][c * n + i], sums[j].0[c]);
+                sums[j].1[c] = b[i].mul_add(f[j][c * n + i], sums[j].1[c]);
+            }
         }
     }
-    (sa, sb)
+    sums
 }
 
 /// For each component `c` of `o` (`3 n` numbers, the components one after the other)
@@ -216,15 +237,13 @@ pub fn component_sums_of_four(
     avx: Avx,
 ) -> ([[f64; 4]; 3], [[f64; 4]; 3]) {
     let width = f.len() / 4;
-    // Written out particle by particle, not in a loop: the compiler then shares each one's
-    // set-up (its slices, its loop's unrolling) among the four, which it did not do in a loop
-    // (733 instructions per particle-step of `bench_paper_history` against 710, callgrind).
+    // Written out, two particles at a time, not in a loop over the four: the compiler then
+    // shares the set-up (the slices, the loop's unrolling) among them, which it did not do in a
+    // loop (733 instructions per particle-step of `bench_paper_history` against 710, callgrind).
     let (f0, f1) = (&f[..width], &f[width..2 * width]);
     let (f2, f3) = (&f[2 * width..3 * width], &f[3 * width..4 * width]);
-    let (s0, t0) = component_sums(f0, (a, b), avx);
-    let (s1, t1) = component_sums(f1, (a, b), avx);
-    let (s2, t2) = component_sums(f2, (a, b), avx);
-    let (s3, t3) = component_sums(f3, (a, b), avx);
+    let [(s0, t0), (s1, t1)] = component_sums_of([f0, f1], (a, b), avx);
+    let [(s2, t2), (s3, t3)] = component_sums_of([f2, f3], (a, b), avx);
     let lanes = |c: usize| ([s0[c], s1[c], s2[c], s3[c]], [t0[c], t1[c], t2[c], t3[c]]);
     let ((x, tx), (y, ty), (z, tz)) = (lanes(0), lanes(1), lanes(2));
     ([x, y, z], [tx, ty, tz])
@@ -250,6 +269,9 @@ pub fn component_update_of_four(
     let (o2, o3) = rest.split_at_mut(width);
     let (f0, f1, f2, f3) = (&f[..width], &f[width..2 * width], &f[2 * width..3 * width], &f[3 * width..]);
     let lane = |x: [[f64; 4]; 3], i: usize| [x[0][i], x[1][i], x[2][i]];
+    // One at a time: two at a time, each group of `e`, `p`, `q` loaded once for both, ran out
+    // of registers for the twelve arrays' addresses and took 673 instructions per particle-step
+    // against 672 (callgrind).
     if write[0] {
         component_update(o0, (f0, e), (lane(a, 0), p), (lane(b, 0), q), avx);
     }
