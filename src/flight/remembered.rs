@@ -160,18 +160,12 @@ impl StepCoefficients {
     }
 }
 
-/// `(Σ_k a_k F_k, Σ_k b_k F_k)` over a particle's modes `f` (its numbers of the memory).
+/// `(Σ_k a_k F_k, Σ_k b_k F_k)` over a particle's modes `f` (its numbers of the memory): the
+/// three components in one pass by lane groups of four ([`component_sums`]), the sums kept per
+/// lane and added in a fixed order, so the result is the same on every target.
 #[multiversion(targets("x86_64+avx2+fma"))]
 fn mode_sums(f: &[f64], a: &[f64], b: &[f64]) -> (DVec3, DVec3) {
-    mode_sums_inlined(f, a, b, Avx::of(selected_target!()))
-}
-
-/// [`mode_sums`], inlined into a caller compiled for its own instruction set (`avx` says which):
-/// the three components in one pass by lane groups of four ([`component_sums`]), the sums kept
-/// per lane and added in a fixed order, so the result is the same on every target.
-#[inline(always)]
-fn mode_sums_inlined(f: &[f64], a: &[f64], b: &[f64], avx: Avx) -> (DVec3, DVec3) {
-    let (sa, sb) = component_sums(f, (a, b), avx);
+    let (sa, sb) = component_sums(f, (a, b), Avx::of(selected_target!()));
     (DVec3::from_array(sa), DVec3::from_array(sb))
 }
 
@@ -179,20 +173,8 @@ fn mode_sums_inlined(f: &[f64], a: &[f64], b: &[f64], avx: Avx) -> (DVec3, DVec3
 /// (a1 − a0) h φ2`, from `start` (empty for a memory that starts empty).
 #[multiversion(targets("x86_64+avx2+fma"))]
 fn modes_moved_on(co: &StepCoefficients, start: &[f64], a0: DVec3, da: DVec3, out: &mut [f64]) {
-    modes_moved_on_inlined(co, start, a0, da, out, Avx::of(selected_target!()))
-}
-
-/// [`modes_moved_on`], inlined into a caller compiled for its own instruction set.
-#[inline(always)]
-fn modes_moved_on_inlined(
-    co: &StepCoefficients,
-    start: &[f64],
-    a0: DVec3,
-    da: DVec3,
-    out: &mut [f64],
-    avx: Avx,
-) {
     let (e, p1, p2) = (&co.decay[..], &co.phi1[..], &co.phi2[..]);
+    let avx = Avx::of(selected_target!());
     component_update(out, (start, e), (a0.to_array(), p1), (da.to_array(), p2), avx);
 }
 
