@@ -196,43 +196,27 @@ pub fn component_update(
         use std::arch::x86_64::{
             _mm256_fmadd_pd, _mm256_loadu_pd, _mm256_mul_pd, _mm256_set1_pd, _mm256_storeu_pd,
         };
+        if let Some(f) = f {
+            // SAFETY: `Avx(true)` is made only where the processor has AVX and FMA
+            // (`Avx::of`); `o` and `f` hold `3 n` numbers, `e`, `p` and `q` `n`.
+            unsafe { update_avx(o.as_mut_ptr(), f.as_ptr(), (e, p, q), (a, b)) };
+            return;
+        }
         done = n / 4 * 4;
-        // SAFETY: `Avx(true)` is made only where the processor has AVX and FMA (`Avx::of`);
-        // every load and store is of four f64s at an index below `done ≤ n` into `e`, `p`, `q`
-        // (length `n`) and into each component of `f` and `o` (length `3 n`).
+        // A memory that starts empty. SAFETY: as above; every load and store is of four f64s
+        // at an index below `done ≤ n` into `p`, `q` and into each component of `o`.
         unsafe {
             let (ax, ay, az) = (_mm256_set1_pd(a[0]), _mm256_set1_pd(a[1]), _mm256_set1_pd(a[2]));
             let (bx, by, bz) = (_mm256_set1_pd(b[0]), _mm256_set1_pd(b[1]), _mm256_set1_pd(b[2]));
-            let (p, q, e) = (p.as_ptr(), q.as_ptr(), e.as_ptr());
+            let (p, q) = (p.as_ptr(), q.as_ptr());
             let ox = o.as_mut_ptr();
             let (oy, oz) = (ox.add(n), ox.add(2 * n));
-            // One loop with a memory and one without, so that neither tests which it is for
-            // every group (the compiler kept that test inside a single loop, and did not unroll
-            // it: 3.2 instructions per number against 1.6, callgrind). No closures: a call of
-            // its own would be compiled without AVX.
-            match f {
-                Some(f) => {
-                    let fx = f.as_ptr();
-                    let (fy, fz) = (fx.add(n), fx.add(2 * n));
-                    for i in (0..done).step_by(4) {
-                        let (e4, p4, q4) =
-                            (_mm256_loadu_pd(e.add(i)), _mm256_loadu_pd(p.add(i)), _mm256_loadu_pd(q.add(i)));
-                        let x = _mm256_fmadd_pd(ax, p4, _mm256_mul_pd(_mm256_loadu_pd(fx.add(i)), e4));
-                        _mm256_storeu_pd(ox.add(i), _mm256_fmadd_pd(bx, q4, x));
-                        let y = _mm256_fmadd_pd(ay, p4, _mm256_mul_pd(_mm256_loadu_pd(fy.add(i)), e4));
-                        _mm256_storeu_pd(oy.add(i), _mm256_fmadd_pd(by, q4, y));
-                        let z = _mm256_fmadd_pd(az, p4, _mm256_mul_pd(_mm256_loadu_pd(fz.add(i)), e4));
-                        _mm256_storeu_pd(oz.add(i), _mm256_fmadd_pd(bz, q4, z));
-                    }
-                }
-                None => {
-                    for i in (0..done).step_by(4) {
-                        let (p4, q4) = (_mm256_loadu_pd(p.add(i)), _mm256_loadu_pd(q.add(i)));
-                        _mm256_storeu_pd(ox.add(i), _mm256_fmadd_pd(bx, q4, _mm256_mul_pd(ax, p4)));
-                        _mm256_storeu_pd(oy.add(i), _mm256_fmadd_pd(by, q4, _mm256_mul_pd(ay, p4)));
-                        _mm256_storeu_pd(oz.add(i), _mm256_fmadd_pd(bz, q4, _mm256_mul_pd(az, p4)));
-                    }
-                }
+            // No closure: a call of its own would be compiled without AVX.
+            for i in (0..done).step_by(4) {
+                let (p4, q4) = (_mm256_loadu_pd(p.add(i)), _mm256_loadu_pd(q.add(i)));
+                _mm256_storeu_pd(ox.add(i), _mm256_fmadd_pd(bx, q4, _mm256_mul_pd(ax, p4)));
+                _mm256_storeu_pd(oy.add(i), _mm256_fmadd_pd(by, q4, _mm256_mul_pd(ay, p4)));
+                _mm256_storeu_pd(oz.add(i), _mm256_fmadd_pd(bz, q4, _mm256_mul_pd(az, p4)));
             }
         }
     }
@@ -250,8 +234,9 @@ pub fn component_update(
 }
 
 /// [`component_update`] of one particle's memory `f` into `o` (each `3 n` numbers, `n` the
-/// length of `e`, `p` and `q`) in AVX with FMA, with no check: [`component_update_of_four`]
-/// made them once for its four particles (about ten instructions a particle, callgrind).
+/// length of `e`, `p` and `q`) in AVX with FMA, by groups of four and the last `n mod 4` one by
+/// one, with no check of its own: its callers make them, [`component_update_of_four`] once for
+/// its four particles (about ten instructions a particle fewer, callgrind).
 ///
 /// # Safety
 /// The processor has AVX and FMA; `o` and `f` point at `3 n` numbers each.
