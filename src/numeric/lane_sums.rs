@@ -359,12 +359,13 @@ pub fn component_update_of_four(
 ) {
     let width = o.len() / 4;
     let f = &f[..4 * width];
+    // Particle `j`'s lane of each component.
+    let lane = |x: [[f64; 4]; 3], j: usize| [x[0][j], x[1][j], x[2][j]];
     #[cfg(target_arch = "x86_64")]
     if avx.0 {
         let n = width / 3;
         let (e, p, q) = (&e[..n], &p[..n], &q[..n]);
         let (op, fp) = (o.as_mut_ptr(), f.as_ptr());
-        let lane = |x: [[f64; 4]; 3], j: usize| [x[0][j], x[1][j], x[2][j]];
         // Written out, not in a loop over the four (which took 676 instructions per
         // particle-step against 656 without this function, callgrind).
         // SAFETY: `Avx(true)` is made only where the processor has AVX and FMA (`Avx::of`);
@@ -391,7 +392,6 @@ pub fn component_update_of_four(
     let (o1, rest) = rest.split_at_mut(width);
     let (o2, o3) = rest.split_at_mut(width);
     let (f0, f1, f2, f3) = (&f[..width], &f[width..2 * width], &f[2 * width..3 * width], &f[3 * width..]);
-    let lane = |x: [[f64; 4]; 3], i: usize| [x[0][i], x[1][i], x[2][i]];
     // One at a time: two at a time, each group of `e`, `p`, `q` loaded once for both, ran out
     // of registers for the twelve arrays' addresses and took 673 instructions per particle-step
     // against 672 (callgrind).
